@@ -1,0 +1,1 @@
+"""Model-making code: parametric furniture families written as blueprints, and the MJCF writer."""

@@ -1,0 +1,1 @@
+"""Parametric furniture families; each module turns a few dimensions into a Blueprint."""

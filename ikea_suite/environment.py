@@ -1,0 +1,81 @@
+"""A composer.Environment that checks actions and steps physics in one call per control step."""
+
+import numpy as np
+import dm_env
+from dm_control import composer
+from dm_control.rl import control
+
+from ikea_suite import errors
+
+
+def check_action(action, spec, names):
+  """Returns the action as a float array clipped to the spec; raises ActionError if malformed."""
+  try:
+    array = np.asarray(action, dtype=np.float64)
+  except (TypeError, ValueError):
+    raise errors.ActionError(f"action must be numeric, got {type(action).__name__}") from None
+  if array.shape != spec.shape:
+    raise errors.ActionError(
+        f"action has shape {array.shape}, expected {spec.shape}: ({', '.join(names)})")
+  bad = ~np.isfinite(array)
+  if bad.any():
+    entries = ", ".join(f"{names[i]}={array[i]}" for i in np.flatnonzero(bad))
+    raise errors.ActionError(f"action has non-finite entries: {entries}")
+  return np.clip(array, spec.minimum, spec.maximum)
+
+
+class Environment(composer.Environment):
+  """composer.Environment with validated, clipped actions and batched substeps.
+
+  composer runs Python hooks and an observation update after every physics
+  substep. When no entity needs per-substep hooks, this class advances all
+  substeps in one `physics.step(n)` call, which is the same integration.
+  """
+
+  def __init__(self, task, **kwargs):
+    kwargs.setdefault("raise_exception_on_physics_error", False)
+    kwargs.setdefault("strip_singleton_obs_buffer_dim", True)
+    super().__init__(task, **kwargs)
+    self._action_names = list(task.action_names)
+    self._checked_spec = None
+
+  def action_spec(self):
+    if self._checked_spec is None:  # fixed for the task's lifetime; built once
+      self._checked_spec = super().action_spec()
+    return self._checked_spec
+
+  def _substep_hooks_trivial(self):
+    return not any(getattr(self._hooks, "_" + name).entity_hooks
+                   or getattr(self._hooks, "_" + name).extra_hooks
+                   for name in ("before_substep", "after_substep"))
+
+  def step(self, action):
+    if self._reset_next_step:
+      return super().step(action)
+    action = check_action(action, self.action_spec(), self._action_names)
+    if not self._substep_hooks_trivial():
+      return super().step(action)
+    self._hooks.before_step(self._physics_proxy, action, self._random_state)
+    updater = self._observation_updater
+    updater.prepare_for_next_control_step()
+    try:
+      self._physics.step(self._n_sub_steps)
+      divergent = False
+    except control.PhysicsError:
+      divergent = True
+    for _ in range(self._n_sub_steps - 1):  # keeps the updater's step counter in sync
+      updater.update()
+    self._hooks.after_step(self._physics_proxy, self._random_state)
+    updater.update()
+    if divergent:
+      reward, discount, last = 0.0, 0.0, True
+    else:
+      reward = self._task.get_reward(self._physics_proxy)
+      discount = self._task.get_discount(self._physics_proxy)
+      last = (self._task.should_terminate_episode(self._physics_proxy)
+              or self._physics.time() >= self._time_limit)
+    observation = updater.get_observation()
+    if last:
+      self._reset_next_step = True
+      return dm_env.TimeStep(dm_env.StepType.LAST, reward, discount, observation)
+    return dm_env.TimeStep(dm_env.StepType.MID, reward, discount, observation)

@@ -1,0 +1,29 @@
+"""The package's one exception family: every error a user can cause is an IkeaSuiteError."""
+
+
+class IkeaSuiteError(Exception):
+  """Base class of every error raised by ikea_suite for bad input."""
+
+
+class UnknownNameError(IkeaSuiteError, KeyError):
+  """A furniture, robot or option name that is not registered."""
+
+  def __init__(self, kind, name, valid):
+    self.kind, self.name, self.valid = kind, name, sorted(valid)
+    shown = ", ".join(self.valid[:40]) + (" …" if len(self.valid) > 40 else "")
+    super().__init__(f"unknown {kind} {name!r}; valid {kind} names: {shown}")
+
+  def __str__(self):  # KeyError would otherwise quote the whole message.
+    return self.args[0]
+
+
+class ModelFormatError(IkeaSuiteError, ValueError):
+  """A furniture model file that breaks the format; names file, element and fault."""
+
+  def __init__(self, path, element, problem):
+    self.path, self.element, self.problem = str(path), element, problem
+    super().__init__(f"{self.path}: {element}: {problem}")
+
+
+class ActionError(IkeaSuiteError, ValueError):
+  """An action of the wrong shape or with non-finite entries."""

@@ -1,0 +1,89 @@
+"""The furniture prop: its parts as free entities, connectors as arrays, the assembly graph."""
+
+import functools
+
+import numpy as np
+from dm_control import composer
+from dm_control import mjcf
+from dm_control.composer.observation import observable
+
+from ikea_suite.props import connector_table
+from ikea_suite.props import model_format
+from ikea_suite.props import part as part_lib
+
+
+class Furniture(composer.Entity):
+  """A furniture model read from its MJCF file.
+
+  The entity itself holds no bodies: each part is its own `Part` entity which
+  `attach_to` adds to an arena as a free body (MuJoCo allows free joints only
+  on top-level bodies). Connector geometry is precomputed as arrays so the
+  task's alignment check is pure numpy.
+  """
+
+  def _build(self, path):
+    self._spec = model_format.load_spec(str(path))
+    self._mjcf_root = mjcf.RootElement(model=self._spec.name)
+    self._parts = [part_lib.Part(p, self._spec) for p in self._spec.parts]
+    self._connectors = connector_table.ConnectorTable(self._spec)
+    self._frames = None
+    self._body_ids = None
+
+  def attach_to(self, arena):
+    """Adds every part to `arena` as a free body; returns their attachment frames."""
+    arena.attach(self)
+    self._frames = [arena.add_free_entity(p) for p in self._parts]
+    return self._frames
+
+  def _build_observables(self):
+    return FurnitureObservables(self)
+
+  def after_compile(self, physics, random_state):
+    self._body_ids = np.array(physics.bind(self._frames).element_id)
+
+  @property
+  def mjcf_model(self):
+    return self._mjcf_root
+
+  @property
+  def spec(self):
+    return self._spec
+
+  @property
+  def name(self):
+    return self._spec.name
+
+  @property
+  def parts(self):
+    return self._parts
+
+  @property
+  def part_frames(self):
+    """The attachment frame (free body) of each part, in part order."""
+    return self._frames
+
+  @property
+  def connectors(self):
+    return self._connectors
+
+  @property
+  def body_ids(self):
+    """MuJoCo body ids of the parts, valid after compilation."""
+    return self._body_ids
+
+  def part_poses(self, physics):
+    """World positions (n, 3) and rotation matrices (n, 3, 3) of all parts."""
+    data = physics.data
+    return data.xpos[self._body_ids], data.xmat[self._body_ids].reshape(-1, 3, 3)
+
+
+class FurnitureObservables(composer.Observables):
+  """Part positions and orientations in the world frame."""
+
+  @composer.observable
+  def part_positions(self):
+    return observable.Generic(lambda physics: physics.data.xpos[self._entity.body_ids].copy())
+
+  @composer.observable
+  def part_quaternions(self):
+    return observable.Generic(lambda physics: physics.data.xquat[self._entity.body_ids].copy())

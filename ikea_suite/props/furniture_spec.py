@@ -1,0 +1,67 @@
+"""Plain data describing one furniture model, as read from its MJCF file.
+
+Nothing here needs a simulator: the loader fills these from XML, the prop and
+the task turn them into entities, welds and numpy arrays.
+"""
+
+import dataclasses
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+
+@dataclasses.dataclass(frozen=True)
+class ConnectorSpec:
+  """A connector: a site on a part, its type and the type it mates with.
+
+  The site frame's z axis is the connector's up vector and its x axis the
+  forward vector. `twists` are the allowed rotations (radians) about up between
+  mating frames; an empty tuple means any twist is allowed.
+  """
+  name: str
+  part: str
+  type: str
+  mates: str
+  twists: tuple
+  pos: np.ndarray   # in the part frame
+  rot: np.ndarray   # 3x3 rotation, in the part frame
+
+  @property
+  def any_twist(self):
+    return not self.twists
+
+
+@dataclasses.dataclass(frozen=True)
+class PartSpec:
+  """A rigid part: a top-level body of the file, in its assembled pose."""
+  name: str
+  pos: np.ndarray            # assembled position in the furniture frame
+  rot: np.ndarray            # assembled 3x3 rotation
+  element: ET.Element        # the <body> element, children copied into the part entity
+  bounds: np.ndarray         # (2, 3) axis-aligned bounds of its collision geoms, part frame
+
+
+@dataclasses.dataclass(frozen=True)
+class FurnitureSpec:
+  """A furniture model: parts, connectors and the file's metadata."""
+  name: str
+  path: str
+  parts: tuple
+  connectors: tuple
+  metadata: dict
+  assets: ET.Element        # the file's <asset> element (may be empty)
+  compiler: dict            # attributes of <compiler>, e.g. meshdir
+
+  def part_index(self, name):
+    return [p.name for p in self.parts].index(name)
+
+  def mating_part_pairs(self):
+    """Sorted pairs (i, j), i < j, of parts with at least one mating connector pair."""
+    index = {p.name: i for i, p in enumerate(self.parts)}
+    pairs = set()
+    for a in self.connectors:
+      for b in self.connectors:
+        if a.mates == b.type and a.part != b.part:
+          i, j = sorted((index[a.part], index[b.part]))
+          pairs.add((i, j))
+    return sorted(pairs)

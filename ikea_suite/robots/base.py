@@ -1,0 +1,32 @@
+"""What an assembly task needs from an agent, whatever its body."""
+
+import abc
+
+from dm_control import composer
+
+
+class Robot(composer.Entity, abc.ABC):
+  """An agent entity: a named action vector it applies once per control step.
+
+  The task appends one `connect` entry after the robot's own actions, so a
+  robot never sees it.
+  """
+
+  @property
+  @abc.abstractmethod
+  def action_names(self):
+    """Names of the robot's action entries, each in [-1, 1]."""
+
+  def mount(self, arena):
+    """Attaches the robot to the arena at its base pose; returns the attachment frame."""
+    return arena.attach(self)
+
+  def bind_scene(self, arena, furniture, assembly, control_timestep):
+    """Called once at build time, after the furniture is attached; may add elements."""
+
+  @abc.abstractmethod
+  def apply_action(self, physics, action, random_state):
+    """Applies the robot's slice of a (clipped, finite) action."""
+
+  def on_parts_moved(self, physics, part_indices):
+    """Called after the task snapped parts to new poses during a connection."""

@@ -1,0 +1,196 @@
+"""The paper's Cursor agent: two floating, collision-free cursors that hold parts.
+
+Each cursor moves in x, y, z and rotates about the world x, y, z axes. With
+its select action on (> 0) it picks up the part it encloses and carries it
+through a weld to the world whose target pose follows the cursor; select off
+releases. Rates are set by `move_speed` (m/s) and `rotate_speed` (rad/s) for
+an action of 1; actions outside [-1, 1] are clipped by the environment.
+"""
+
+import numpy as np
+from dm_control import composer
+from dm_control import mjcf
+from dm_control.composer.observation import observable
+
+from ikea_suite import geometry
+from ikea_suite.robots import base
+
+NUM_CURSORS = 2
+_PER_CURSOR = ("move_x", "move_y", "move_z", "rotate_x", "rotate_y", "rotate_z", "select")
+_COLORS = ((0.1, 0.4, 0.95, 0.8), (0.95, 0.3, 0.1, 0.8))
+_HOME = ((-0.4, 0.0, 0.6), (0.4, 0.0, 0.6))
+# A soft grip: the part trails the cursor smoothly instead of jerking.
+_GRIP_SOLREF = (0.02, 1.0)
+
+
+class Cursor(base.Robot):
+  """Two cursors; their poses live in physics state as slide + ball joints."""
+
+  def _build(self, name="cursor", move_speed=0.5, rotate_speed=np.pi / 2, grasp_margin=0.02,
+             workspace=((-2.0, -2.0, 0.0), (2.0, 2.0, 2.0)), radius=0.025):
+    self._mjcf_root = mjcf.RootElement(model=name)
+    self._move_speed = float(move_speed)
+    self._rotate_speed = float(rotate_speed)
+    self._grasp_margin = float(grasp_margin)
+    self._workspace = np.asarray(workspace, dtype=float)
+    self._slides, self._balls = [], []
+    for i in range(NUM_CURSORS):
+      body = self._mjcf_root.worldbody.add("body", name=f"cursor{i}", gravcomp=1)
+      self._slides.append([body.add("joint", name=f"cursor{i}_{axis}", type="slide", axis=vec,
+                                    damping=0, armature=0.01)
+                           for axis, vec in zip("xyz", np.eye(3))])
+      self._balls.append(body.add("joint", name=f"cursor{i}_rot", type="ball", armature=0.01))
+      body.add("geom", name=f"cursor{i}", type="sphere", size=(radius,), rgba=_COLORS[i],
+               contype=0, conaffinity=0, mass=0.01, group=2)
+    self._grip_welds = []
+    self._held = np.full(NUM_CURSORS, -1)
+    self._grip_pos = np.zeros((NUM_CURSORS, 3))
+    self._grip_rot = np.tile(np.eye(3), (NUM_CURSORS, 1, 1))
+
+  def _build_observables(self):
+    return CursorObservables(self)
+
+  @property
+  def mjcf_model(self):
+    return self._mjcf_root
+
+  @property
+  def action_names(self):
+    return [f"cursor{i}_{a}" for i in range(NUM_CURSORS) for a in _PER_CURSOR]
+
+  @property
+  def held_parts(self):
+    """Index of the part each cursor holds, -1 for none."""
+    return self._held.copy()
+
+  def bind_scene(self, arena, furniture, assembly, control_timestep):
+    self._furniture, self._assembly, self._dt = furniture, assembly, control_timestep
+    # One inactive weld per (cursor, part) from the world to the part: its
+    # relpose is then simply the part's target pose in the world frame.
+    self._grip_welds = [[arena.mjcf_model.equality.add(
+        "weld", name=f"{self._mjcf_root.model}{i}_grip_{j}", body1="world", body2=frame,
+        active=False,
+        solref=_GRIP_SOLREF) for j, frame in enumerate(furniture.part_frames)]
+        for i in range(NUM_CURSORS)]
+
+  def after_compile(self, physics, random_state):
+    slides = [physics.bind(s) for s in self._slides]
+    self._slide_qpos = np.array([b.qposadr for b in slides])          # (2, 3)
+    self._slide_dof = np.array([b.dofadr for b in slides])
+    self._ball_qpos = np.array([physics.bind(b).qposadr for b in self._balls])
+    self._ball_dof = np.array([physics.bind(b).dofadr for b in self._balls])
+    self._weld_ids = np.array([physics.bind(w).element_id for w in self._grip_welds])
+    model = physics.model
+    part_of_body = {b: i for i, b in enumerate(self._furniture.body_ids)}
+    geoms = [g for g in range(model.ngeom) if model.geom_bodyid[g] in part_of_body
+             and (model.geom_contype[g] or model.geom_conaffinity[g])]
+    self._geom_ids = np.array(geoms)
+    self._geom_part = np.array([part_of_body[model.geom_bodyid[g]] for g in geoms])
+    self._geom_center = model.geom_aabb[geoms, :3].copy()
+    self._geom_half = model.geom_aabb[geoms, 3:].copy() + self._grasp_margin
+
+  def initialize_episode(self, physics, random_state):
+    self._held[:] = -1
+    for i in range(NUM_CURSORS):
+      self.set_cursor_pose(physics, i, np.array(_HOME[i]), np.eye(3))
+
+  def cursor_pose(self, physics, i):
+    qpos = physics.data.qpos
+    pos = qpos[self._slide_qpos[i]]
+    quat = qpos[self._ball_qpos[i]:self._ball_qpos[i] + 4]
+    return pos.copy(), geometry.quat_to_mat(quat)
+
+  def set_cursor_pose(self, physics, i, pos, rot):
+    data = physics.data
+    data.qpos[self._slide_qpos[i]] = pos
+    data.qpos[self._ball_qpos[i]:self._ball_qpos[i] + 4] = geometry.mat_to_quat(rot)
+    data.qvel[self._slide_dof[i]] = 0.0
+    data.qvel[self._ball_dof[i]:self._ball_dof[i] + 3] = 0.0
+
+  def apply_action(self, physics, action, random_state):
+    action = action.reshape(NUM_CURSORS, len(_PER_CURSOR))
+    for i in range(NUM_CURSORS):
+      pos, rot = self.cursor_pose(physics, i)
+      pos = np.clip(pos + action[i, :3] * self._move_speed * self._dt, *self._workspace)
+      rot = geometry.axis_angle_to_mat(action[i, 3:6] * self._rotate_speed * self._dt) @ rot
+      self.set_cursor_pose(physics, i, pos, rot)
+      selecting = action[i, 6] > 0
+      if selecting and self._held[i] < 0:
+        self._grab(physics, i, pos, rot)
+      elif not selecting and self._held[i] >= 0:
+        self._release(physics, i)
+      if self._held[i] >= 0:
+        self._write_grip_target(physics, i, pos, rot)
+
+  def _enclosed_part(self, physics, point):
+    """The part whose collision geom (bounding box plus margin) holds `point`, or -1."""
+    data = physics.data
+    rot = data.geom_xmat[self._geom_ids].reshape(-1, 3, 3)
+    local = np.einsum("gji,gj->gi", rot, point - data.geom_xpos[self._geom_ids])
+    offset = np.abs(local - self._geom_center)
+    inside = np.all(offset <= self._geom_half, axis=1)
+    if not inside.any():
+      return -1
+    # Among enclosing geoms, the one whose centre is nearest.
+    candidates = np.flatnonzero(inside)
+    return int(self._geom_part[candidates[np.argmin(np.linalg.norm(offset[candidates], axis=1))]])
+
+  def _grab(self, physics, i, pos, rot):
+    part = self._enclosed_part(physics, pos)
+    if part < 0:
+      return
+    other = self._held[1 - i]
+    if other >= 0 and self._assembly.same_group(part, other):
+      return  # the other cursor already holds this assembly
+    self._held[i] = part
+    self._update_grip_offset(physics, i, pos, rot)
+    physics.data.eq_active[self._weld_ids[i, part]] = 1
+
+  def _release(self, physics, i):
+    physics.data.eq_active[self._weld_ids[i, self._held[i]]] = 0
+    self._held[i] = -1
+
+  def _update_grip_offset(self, physics, i, pos, rot):
+    body = self._furniture.body_ids[self._held[i]]
+    part_pos = physics.data.xpos[body]
+    part_rot = physics.data.xmat[body].reshape(3, 3)
+    self._grip_pos[i] = rot.T @ (part_pos - pos)
+    self._grip_rot[i] = rot.T @ part_rot
+
+  def _write_grip_target(self, physics, i, pos, rot):
+    target_rot = rot @ self._grip_rot[i]
+    target_pos = pos + rot @ self._grip_pos[i]
+    eq = physics.model.eq_data[self._weld_ids[i, self._held[i]]]
+    eq[3:6] = target_pos
+    eq[6:10] = geometry.mat_to_quat(target_rot)
+
+  def on_parts_moved(self, physics, part_indices):
+    moved = set(int(p) for p in part_indices)
+    holders = [i for i in range(NUM_CURSORS) if self._held[i] in moved]
+    for i in holders:
+      pos, rot = self.cursor_pose(physics, i)
+      self._update_grip_offset(physics, i, pos, rot)
+      self._write_grip_target(physics, i, pos, rot)
+    # Two cursors on one rigid assembly would fight: the mover lets go.
+    if self._held.min() >= 0 and self._assembly.same_group(self._held[0], self._held[1]):
+      for i in holders[:1]:
+        self._release(physics, i)
+
+
+class CursorObservables(composer.Observables):
+  """Cursor positions, orientations and the part each holds (-1 for none)."""
+
+  @composer.observable
+  def cursor_positions(self):
+    return observable.Generic(lambda physics: np.stack(
+        [self._entity.cursor_pose(physics, i)[0] for i in range(NUM_CURSORS)]))
+
+  @composer.observable
+  def cursor_quaternions(self):
+    return observable.Generic(lambda physics: np.stack(
+        [geometry.mat_to_quat(self._entity.cursor_pose(physics, i)[1])
+         for i in range(NUM_CURSORS)]))
+
+  @composer.observable
+  def cursor_held_parts(self):
+    return observable.Generic(lambda physics: self._entity.held_parts.astype(np.float64))

@@ -1,0 +1,35 @@
+"""Robot registry: name -> entity factory and tags."""
+
+import dataclasses
+
+from ikea_suite import errors
+from ikea_suite.robots import cursor
+
+
+@dataclasses.dataclass(frozen=True)
+class RobotEntry:
+  name: str
+  factory: type
+  tags: frozenset
+
+
+_ROBOTS = {}
+
+
+def register(name, factory, tags=()):
+  if name in _ROBOTS:
+    raise ValueError(f"robot {name!r} is already registered")
+  _ROBOTS[name] = RobotEntry(name, factory, frozenset(tags))
+
+
+def get(name):
+  if name not in _ROBOTS:
+    raise errors.UnknownNameError("robot", name, _ROBOTS)
+  return _ROBOTS[name]
+
+
+def names(tag=None):
+  return sorted(n for n, e in _ROBOTS.items() if tag is None or tag in e.tags)
+
+
+register("cursor", cursor.Cursor, tags=("floating", "bimanual"))

@@ -1,0 +1,68 @@
+"""ikea_suite.load: furniture x robot x options -> a composer environment."""
+
+import inspect
+
+from ikea_suite import environment
+from ikea_suite import errors
+from ikea_suite.arenas import floor
+from ikea_suite.props import catalog
+from ikea_suite.props import furniture as furniture_lib
+from ikea_suite.robots import registry
+from ikea_suite.tasks import alignment
+from ikea_suite.tasks import assembly
+
+DEFAULT_FURNITURE = "table_four_leg_lack"
+DEFAULT_ROBOT = "cursor"
+
+# Option name -> (where it goes, default). Thresholds are flattened for convenience.
+TASK_OPTIONS = ("control_timestep", "physics_timestep", "connection_reward", "completion_bonus")
+THRESHOLD_OPTIONS = {"distance_threshold": "distance", "up_threshold": "up_cos",
+                     "forward_threshold": "forward_cos"}
+ENVIRONMENT_OPTIONS = ("time_limit",)
+DEFAULT_TIME_LIMIT = 150.0   # seconds of simulated time: 3000 control steps at 20 Hz
+
+
+def _robot_options(factory):
+  params = inspect.signature(factory._build).parameters
+  return [p for p in params if p not in ("self", "name")]
+
+
+def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options):
+  """Builds the assembly environment of `furniture` with `robot`.
+
+  Options: time_limit (s); control_timestep, physics_timestep (s);
+  connection_reward, completion_bonus; distance_threshold (m), up_threshold
+  and forward_threshold (cosines); and the robot's own options (for the
+  cursor: move_speed, rotate_speed, grasp_margin, workspace, radius).
+  Unknown names raise UnknownNameError listing the valid ones.
+  """
+  path = catalog.path_of(furniture)
+  robot_entry = registry.get(robot)
+  robot_keys = _robot_options(robot_entry.factory)
+  valid = set(TASK_OPTIONS) | set(THRESHOLD_OPTIONS) | set(ENVIRONMENT_OPTIONS) | set(robot_keys)
+  for key in options:
+    if key not in valid:
+      raise errors.UnknownNameError("option", key, valid)
+  thresholds = alignment.Thresholds(**{field: options[key] for key, field in THRESHOLD_OPTIONS.items()
+                                       if key in options})
+  task = assembly.Assembly(
+      arena=floor.FloorArena(),
+      furniture=furniture_lib.Furniture(path),
+      robot=robot_entry.factory(**{k: options[k] for k in robot_keys if k in options}),
+      thresholds=thresholds,
+      **{k: options[k] for k in TASK_OPTIONS if k in options})
+  return environment.Environment(
+      task, time_limit=options.get("time_limit", DEFAULT_TIME_LIMIT), random_state=seed)
+
+
+def furniture_names(tag=None, min_parts=None, max_parts=None):
+  return catalog.names(tag=tag, min_parts=min_parts, max_parts=max_parts)
+
+
+def robot_names(tag=None):
+  return registry.names(tag=tag)
+
+
+def all_environments():
+  """Every registered (furniture, robot) pair."""
+  return [(f, r) for f in furniture_names() for r in robot_names()]

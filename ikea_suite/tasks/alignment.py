@@ -1,0 +1,52 @@
+"""The paper's connector alignment test (Lee et al. 2019, eqs. 1-4), over all pairs at once.
+
+Connectors A and B are attachable when
+  ||p_A - p_B|| < distance,
+  cos(up_A, up_B) > up_cos,
+  max over allowed twists t of cos(R(up_A, t) fwd_A, fwd_B) > forward_cos.
+Because fwd_A is orthogonal to up_A, R(up_A, t) fwd_A = cos t fwd_A + sin t (up_A x fwd_A),
+so every twist costs one multiply-add on two dot products.
+"""
+
+import dataclasses
+
+import numpy as np
+
+
+@dataclasses.dataclass(frozen=True)
+class Thresholds:
+  """Defaults: 2 cm apart, up axes within ~8 degrees, forward axes within ~8 degrees."""
+  distance: float = 0.02
+  up_cos: float = 0.99
+  forward_cos: float = 0.99
+
+
+@dataclasses.dataclass(frozen=True)
+class PairAlignment:
+  """Per candidate pair: distance, up cosine, best forward cosine and the twist achieving it."""
+  distance: np.ndarray
+  up_cos: np.ndarray
+  forward_cos: np.ndarray
+  twist: np.ndarray       # radians; for any-twist pairs the measured twist
+
+  def attachable(self, thresholds):
+    return ((self.distance < thresholds.distance) & (self.up_cos > thresholds.up_cos)
+            & (self.forward_cos > thresholds.forward_cos))
+
+
+def align_pairs(pos, rot, table):
+  """Scores every candidate pair of `table` given connector world frames (c,3) and (c,3,3)."""
+  a, b = table.pair_a, table.pair_b
+  rot_a, rot_b = rot[a], rot[b]
+  distance = np.linalg.norm(pos[a] - pos[b], axis=1)
+  up_cos = np.einsum("pi,pi->p", rot_a[:, :, 2], rot_b[:, :, 2])
+  fwd_b = rot_b[:, :, 0]
+  c = np.einsum("pi,pi->p", rot_a[:, :, 0], fwd_b)   # cos of the measured twist
+  s = np.einsum("pi,pi->p", rot_a[:, :, 1], fwd_b)   # sin of the measured twist
+  per_twist = table.twist_cos * c[:, None] + table.twist_sin * s[:, None]
+  per_twist = np.where(table.twist_valid, per_twist, -np.inf)
+  best = np.argmax(per_twist, axis=1)
+  rows = np.arange(len(a))
+  forward_cos = np.where(table.any_twist, 1.0, per_twist[rows, best])
+  twist = np.where(table.any_twist, np.arctan2(s, c), table.twist_angles[rows, best])
+  return PairAlignment(distance, up_cos, forward_cos, twist)

@@ -1,0 +1,1 @@
+"""Furniture and robot assets; installed as the package ikea_suite.models."""
