@@ -21,7 +21,7 @@ def check_action(action, spec, names):
   if bad.any():
     entries = ", ".join(f"{names[i]}={array[i]}" for i in np.flatnonzero(bad))
     raise errors.ActionError(f"action has non-finite entries: {entries}")
-  return np.clip(array, spec.minimum, spec.maximum)
+  return np.minimum(np.maximum(array, spec.minimum), spec.maximum)
 
 
 class Environment(composer.Environment):
@@ -49,6 +49,22 @@ class Environment(composer.Environment):
                    or getattr(self._hooks, "_" + name).extra_hooks
                    for name in ("before_substep", "after_substep"))
 
+  def _advance_updater(self, substeps):
+    """Runs the observation updater over intermediate substeps.
+
+    With default observables nothing is due before the last substep, so the
+    updater's counter is advanced directly (dm_control 1.0.50's updater keeps
+    it in `_step_counter`); otherwise every substep update runs as in composer.
+    """
+    updater = self._observation_updater
+    first_due = updater._step_counter + substeps + 1
+    if all(not e.update_schedule or e.update_schedule[0][0] >= first_due
+           for e in updater._enabled_list):
+      updater._step_counter += substeps
+    else:
+      for _ in range(substeps):
+        updater.update()
+
   def step(self, action):
     if self._reset_next_step:
       return super().step(action)
@@ -63,8 +79,7 @@ class Environment(composer.Environment):
       divergent = False
     except control.PhysicsError:
       divergent = True
-    for _ in range(self._n_sub_steps - 1):  # keeps the updater's step counter in sync
-      updater.update()
+    self._advance_updater(self._n_sub_steps - 1)
     self._hooks.after_step(self._physics_proxy, self._random_state)
     updater.update()
     if divergent:

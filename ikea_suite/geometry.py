@@ -1,10 +1,18 @@
 """Rigid-transform helpers on numpy arrays; quaternions are (w, x, y, z) like MuJoCo's."""
 
+import mujoco
 import numpy as np
 
 
 def quat_to_mat(quat):
-  """Rotation matrices (..., 3, 3) from unit quaternions (..., 4)."""
+  """Rotation matrix (3, 3) of one unit quaternion, via MuJoCo's C routine."""
+  out = np.empty(9)
+  mujoco.mju_quat2Mat(out, np.asarray(quat, dtype=float))
+  return out.reshape(3, 3)
+
+
+def quats_to_mats(quat):
+  """Rotation matrices (..., 3, 3) from unit quaternions (..., 4), vectorised."""
   w, x, y, z = np.moveaxis(np.asarray(quat, dtype=float), -1, 0)
   return np.stack([
       np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
@@ -14,35 +22,31 @@ def quat_to_mat(quat):
 
 
 def mat_to_quat(mat):
-  """Unit quaternion (w positive) of one rotation matrix."""
-  m = np.asarray(mat, dtype=float)
-  trace = m[0, 0] + m[1, 1] + m[2, 2]
-  if trace > 0:
-    s = 2.0 * np.sqrt(trace + 1.0)
-    q = [0.25 * s, (m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s]
-  elif m[0, 0] > m[1, 1] and m[0, 0] > m[2, 2]:
-    s = 2.0 * np.sqrt(1.0 + m[0, 0] - m[1, 1] - m[2, 2])
-    q = [(m[2, 1] - m[1, 2]) / s, 0.25 * s, (m[0, 1] + m[1, 0]) / s, (m[0, 2] + m[2, 0]) / s]
-  elif m[1, 1] > m[2, 2]:
-    s = 2.0 * np.sqrt(1.0 + m[1, 1] - m[0, 0] - m[2, 2])
-    q = [(m[0, 2] - m[2, 0]) / s, (m[0, 1] + m[1, 0]) / s, 0.25 * s, (m[1, 2] + m[2, 1]) / s]
-  else:
-    s = 2.0 * np.sqrt(1.0 + m[2, 2] - m[0, 0] - m[1, 1])
-    q = [(m[1, 0] - m[0, 1]) / s, (m[0, 2] + m[2, 0]) / s, (m[1, 2] + m[2, 1]) / s, 0.25 * s]
-  q = np.asarray(q)
-  q /= np.linalg.norm(q)
+  """Unit quaternion (w >= 0) of one rotation matrix."""
+  q = np.empty(4)
+  mujoco.mju_mat2Quat(q, np.ascontiguousarray(mat, dtype=float).ravel())
   return q if q[0] >= 0 else -q
+
+
+def axis_angle_to_quat(axis_angle):
+  """Unit quaternion of a rotation vector (axis times angle in radians)."""
+  v = np.asarray(axis_angle, dtype=float)
+  angle = float(np.sqrt(v @ v))
+  q = np.array([1.0, 0.0, 0.0, 0.0])
+  if angle > 1e-12:
+    mujoco.mju_axisAngle2Quat(q, v / angle, angle)
+  return q
 
 
 def axis_angle_to_mat(axis_angle):
   """Rotation matrix of a rotation vector (axis times angle in radians)."""
-  v = np.asarray(axis_angle, dtype=float)
-  angle = np.linalg.norm(v)
-  if angle < 1e-12:
-    return np.eye(3)
-  k = v / angle
-  kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-  return np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
+  return quat_to_mat(axis_angle_to_quat(axis_angle))
+
+
+def quat_mul(a, b):
+  out = np.empty(4)
+  mujoco.mju_mulQuat(out, np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+  return out
 
 
 def mat_to_axis_angle(mat):

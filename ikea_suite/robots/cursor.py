@@ -77,9 +77,17 @@ class Cursor(base.Robot):
     slides = [physics.bind(s) for s in self._slides]
     self._slide_qpos = np.array([b.qposadr for b in slides])          # (2, 3)
     self._slide_dof = np.array([b.dofadr for b in slides])
-    self._ball_qpos = np.array([physics.bind(b).qposadr for b in self._balls])
-    self._ball_dof = np.array([physics.bind(b).dofadr for b in self._balls])
+    ball_qpos = np.array([physics.bind(b).qposadr for b in self._balls])
+    ball_dof = np.array([physics.bind(b).dofadr for b in self._balls])
+    self._ball_quat_index = ball_qpos[:, None] + np.arange(4)
+    self._ball_vel_index = ball_dof[:, None] + np.arange(3)
     self._weld_ids = np.array([physics.bind(w).element_id for w in self._grip_welds])
+    # Views into MuJoCo's buffers, fetched once: the wrapper's attribute lookup
+    # costs more than the arithmetic done with them every step.
+    self._qpos, self._qvel = physics.data.qpos, physics.data.qvel
+    self._eq_active, self._eq_data = physics.data.eq_active, physics.model.eq_data
+    self._geom_xpos, self._geom_xmat = physics.data.geom_xpos, physics.data.geom_xmat
+    self._xpos, self._xmat = physics.data.xpos, physics.data.xmat
     model = physics.model
     part_of_body = {b: i for i, b in enumerate(self._furniture.body_ids)}
     geoms = [g for g in range(model.ngeom) if model.geom_bodyid[g] in part_of_body
@@ -94,49 +102,66 @@ class Cursor(base.Robot):
     for i in range(NUM_CURSORS):
       self.set_cursor_pose(physics, i, np.array(_HOME[i]), np.eye(3))
 
+  def cursor_positions(self, physics):
+    """(2, 3) world positions of both cursors."""
+    return self._qpos[self._slide_qpos]
+
+  def cursor_quaternions(self, physics):
+    """(2, 4) world orientations; the ball joint sits in a world-aligned frame."""
+    return self._qpos[self._ball_quat_index]
+
   def cursor_pose(self, physics, i):
-    qpos = physics.data.qpos
-    pos = qpos[self._slide_qpos[i]]
-    quat = qpos[self._ball_qpos[i]:self._ball_qpos[i] + 4]
-    return pos.copy(), geometry.quat_to_mat(quat)
+    quat = physics.data.qpos[self._ball_quat_index[i]]
+    return physics.data.qpos[self._slide_qpos[i]], geometry.quat_to_mat(quat)
 
   def set_cursor_pose(self, physics, i, pos, rot):
+    self._write_pose(physics, i, pos, geometry.mat_to_quat(rot))
+
+  def _write_pose(self, physics, i, pos, quat):
     data = physics.data
     data.qpos[self._slide_qpos[i]] = pos
-    data.qpos[self._ball_qpos[i]:self._ball_qpos[i] + 4] = geometry.mat_to_quat(rot)
+    data.qpos[self._ball_quat_index[i]] = quat
     data.qvel[self._slide_dof[i]] = 0.0
-    data.qvel[self._ball_dof[i]:self._ball_dof[i] + 3] = 0.0
+    data.qvel[self._ball_vel_index[i]] = 0.0
 
   def apply_action(self, physics, action, random_state):
     action = action.reshape(NUM_CURSORS, len(_PER_CURSOR))
+    qpos = self._qpos
+    positions = np.minimum(np.maximum(
+        qpos[self._slide_qpos] + action[:, :3] * (self._move_speed * self._dt),
+        self._workspace[0]), self._workspace[1])
+    qpos[self._slide_qpos] = positions
+    self._qvel[self._slide_dof] = 0.0
+    self._qvel[self._ball_vel_index] = 0.0
+    turns = action[:, 3:6] * (self._rotate_speed * self._dt)
     for i in range(NUM_CURSORS):
-      pos, rot = self.cursor_pose(physics, i)
-      pos = np.clip(pos + action[i, :3] * self._move_speed * self._dt, *self._workspace)
-      rot = geometry.axis_angle_to_mat(action[i, 3:6] * self._rotate_speed * self._dt) @ rot
-      self.set_cursor_pose(physics, i, pos, rot)
-      selecting = action[i, 6] > 0
-      if selecting and self._held[i] < 0:
-        self._grab(physics, i, pos, rot)
-      elif not selecting and self._held[i] >= 0:
+      quat = geometry.quat_mul(geometry.axis_angle_to_quat(turns[i]), qpos[self._ball_quat_index[i]])
+      qpos[self._ball_quat_index[i]] = quat / np.sqrt(quat @ quat)
+      selecting, held = action[i, 6] > 0, self._held[i]
+      if not selecting and held < 0:
+        continue  # idle cursor: nothing to grab, release or steer
+      rot = geometry.quat_to_mat(quat)
+      if selecting and held < 0:
+        self._grab(physics, i, positions[i], rot)
+      elif not selecting:
         self._release(physics, i)
       if self._held[i] >= 0:
-        self._write_grip_target(physics, i, pos, rot)
+        self._write_grip_target(i, positions[i], rot)
 
-  def _enclosed_part(self, physics, point):
+  def _enclosed_part(self, point):
     """The part whose collision geom (bounding box plus margin) holds `point`, or -1."""
-    data = physics.data
-    rot = data.geom_xmat[self._geom_ids].reshape(-1, 3, 3)
-    local = np.einsum("gji,gj->gi", rot, point - data.geom_xpos[self._geom_ids])
+    ids = self._geom_ids
+    rot = self._geom_xmat[ids].reshape(-1, 3, 3)
+    local = np.einsum("gji,gj->gi", rot, point - self._geom_xpos[ids])
     offset = np.abs(local - self._geom_center)
-    inside = np.all(offset <= self._geom_half, axis=1)
-    if not inside.any():
+    inside = np.flatnonzero((offset <= self._geom_half).all(axis=1))
+    if not len(inside):
       return -1
     # Among enclosing geoms, the one whose centre is nearest.
-    candidates = np.flatnonzero(inside)
-    return int(self._geom_part[candidates[np.argmin(np.linalg.norm(offset[candidates], axis=1))]])
+    return int(self._geom_part[inside[np.argmin((offset[inside] ** 2).sum(axis=1))]])
 
   def _grab(self, physics, i, pos, rot):
-    part = self._enclosed_part(physics, pos)
+    part = self._enclosed_part(pos)
     if part < 0:
       return
     other = self._held[1 - i]
@@ -144,23 +169,23 @@ class Cursor(base.Robot):
       return  # the other cursor already holds this assembly
     self._held[i] = part
     self._update_grip_offset(physics, i, pos, rot)
-    physics.data.eq_active[self._weld_ids[i, part]] = 1
+    self._eq_active[self._weld_ids[i, part]] = 1
 
   def _release(self, physics, i):
-    physics.data.eq_active[self._weld_ids[i, self._held[i]]] = 0
+    self._eq_active[self._weld_ids[i, self._held[i]]] = 0
     self._held[i] = -1
 
   def _update_grip_offset(self, physics, i, pos, rot):
     body = self._furniture.body_ids[self._held[i]]
-    part_pos = physics.data.xpos[body]
-    part_rot = physics.data.xmat[body].reshape(3, 3)
+    part_pos = self._xpos[body]
+    part_rot = self._xmat[body].reshape(3, 3)
     self._grip_pos[i] = rot.T @ (part_pos - pos)
     self._grip_rot[i] = rot.T @ part_rot
 
-  def _write_grip_target(self, physics, i, pos, rot):
+  def _write_grip_target(self, i, pos, rot):
     target_rot = rot @ self._grip_rot[i]
     target_pos = pos + rot @ self._grip_pos[i]
-    eq = physics.model.eq_data[self._weld_ids[i, self._held[i]]]
+    eq = self._eq_data[self._weld_ids[i, self._held[i]]]
     eq[3:6] = target_pos
     eq[6:10] = geometry.mat_to_quat(target_rot)
 
@@ -170,7 +195,7 @@ class Cursor(base.Robot):
     for i in holders:
       pos, rot = self.cursor_pose(physics, i)
       self._update_grip_offset(physics, i, pos, rot)
-      self._write_grip_target(physics, i, pos, rot)
+      self._write_grip_target(i, pos, rot)
     # Two cursors on one rigid assembly would fight: the mover lets go.
     if self._held.min() >= 0 and self._assembly.same_group(self._held[0], self._held[1]):
       for i in holders[:1]:
@@ -182,14 +207,11 @@ class CursorObservables(composer.Observables):
 
   @composer.observable
   def cursor_positions(self):
-    return observable.Generic(lambda physics: np.stack(
-        [self._entity.cursor_pose(physics, i)[0] for i in range(NUM_CURSORS)]))
+    return observable.Generic(self._entity.cursor_positions)
 
   @composer.observable
   def cursor_quaternions(self):
-    return observable.Generic(lambda physics: np.stack(
-        [geometry.mat_to_quat(self._entity.cursor_pose(physics, i)[1])
-         for i in range(NUM_CURSORS)]))
+    return observable.Generic(self._entity.cursor_quaternions)
 
   @composer.observable
   def cursor_held_parts(self):

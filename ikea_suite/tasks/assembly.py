@@ -45,6 +45,7 @@ class Assembly(composer.Task):
     robot.bind_scene(arena, furniture, self._state, self.control_timestep)
     self._initializer = initializer or placement.ScatteredParts(furniture)
     self._step_reward = 0.0
+    self._suggestion_key = None
     self._task_observables = {
         "connections": observable.Generic(lambda physics: self._state.adjacency.copy()),
         "connectors_used": observable.Generic(
@@ -84,6 +85,7 @@ class Assembly(composer.Task):
 
   def initialize_episode(self, physics, random_state):
     self._state.reset()
+    self._suggestion_key = None
     self._welds.reset(physics)
     self._collisions.reset(physics)
     self._initializer(physics, random_state)
@@ -134,8 +136,12 @@ class Assembly(composer.Task):
 
   def suggested_parts(self):
     """[moving part, target part] of the planner's next connection, or [-1, -1]."""
-    suggestion = planner.next_pair(self._table, self._state, self._root)
-    return np.array([-1, -1]) if suggestion is None else np.array(suggestion[1:])
+    made = len(self._state.connections)
+    if self._suggestion_key != made:  # the plan changes only when a connection is made
+      suggestion = planner.next_pair(self._table, self._state, self._root)
+      self._suggestion = np.array([-1, -1]) if suggestion is None else np.array(suggestion[1:])
+      self._suggestion_key = made
+    return self._suggestion
 
   def alignment(self, physics):
     """Alignment scores of every candidate connector pair in the current state."""

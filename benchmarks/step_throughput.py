@@ -1,0 +1,98 @@
+"""Env step throughput next to raw MuJoCo stepping of the same compiled model.
+
+For each (furniture, robot): steps/s of env.step with state observations and
+random actions; the same number of physics substeps stepped by mujoco.mj_step
+on a copy of the env's compiled model; their ratio; reset time; and the cost of
+one alignment check over all connector pairs. Usage:
+
+    python benchmarks/step_throughput.py [--steps 1000] [--robot cursor] [--furniture NAME ...]
+"""
+
+import argparse
+import time
+
+import mujoco
+import numpy as np
+
+import ikea_suite
+
+
+def time_env_and_raw(env, steps, rng):
+  """Seconds per env.step, and per raw mj_step over the same substeps from the same states.
+
+  Each env step's starting state (integration state plus weld targets) is
+  recorded, then raw MuJoCo steps from each recorded state in turn, so both
+  sides integrate the same contacts and constraints.
+  """
+  state_spec = mujoco.mjtState.mjSTATE_INTEGRATION
+  spec = env.action_spec()
+  actions = rng.uniform(-1, 1, size=(steps,) + spec.shape)
+  actions[:, -1] = -1.0   # no connect: measure stepping, not snapping
+  states, eq_data = [], []
+  env.reset()
+  env_seconds = 0.0
+  for action in actions:
+    # Fetched every step: a reset may recompile the physics.
+    model, data = env.physics.model._model, env.physics.data._data
+    state = np.empty(mujoco.mj_stateSize(model, state_spec))
+    mujoco.mj_getState(model, data, state, state_spec)
+    states.append(state)
+    eq_data.append(model.eq_data.copy())
+    start = time.perf_counter()
+    last = env.step(action).last()
+    env_seconds += time.perf_counter() - start
+    if last:
+      env.reset()
+  substeps = int(round(env.control_timestep() / model.opt.timestep))
+  raw_data = mujoco.MjData(model)
+  raw_seconds = 0.0
+  for state, eq in zip(states, eq_data):
+    mujoco.mj_setState(model, raw_data, state, state_spec)
+    model.eq_data[:] = eq
+    start = time.perf_counter()
+    mujoco.mj_step(model, raw_data, substeps)
+    raw_seconds += time.perf_counter() - start
+  return env_seconds / steps, raw_seconds / steps, substeps
+
+
+def time_reset(env, repeats=20):
+  start = time.perf_counter()
+  for _ in range(repeats):
+    env.reset()
+  return (time.perf_counter() - start) / repeats
+
+
+def time_alignment(env, repeats=2000):
+  task, physics = env.task, env.physics
+  start = time.perf_counter()
+  for _ in range(repeats):
+    task.alignment(physics).attachable(task.thresholds)
+  return (time.perf_counter() - start) / repeats
+
+
+def main():
+  parser = argparse.ArgumentParser(description=__doc__)
+  parser.add_argument("--steps", type=int, default=1000)
+  parser.add_argument("--robot", default="cursor")
+  parser.add_argument("--furniture", nargs="*", default=None)
+  args = parser.parse_args()
+  names = args.furniture or ikea_suite.furniture_names()
+  rng = np.random.default_rng(0)
+  header = (f"{'furniture':32s} {'robot':8s} {'substeps':>8s} {'env steps/s':>11s} "
+            f"{'raw steps/s':>11s} {'env/raw':>7s} {'reset ms':>8s} {'align us':>8s} {'pairs':>5s}")
+  print(header)
+  print("-" * len(header))
+  ratios = []
+  for name in names:
+    env = ikea_suite.load(name, args.robot, seed=0)
+    env_time, raw_time, substeps = time_env_and_raw(env, args.steps, rng)
+    ratios.append(env_time / raw_time)
+    print(f"{name:32s} {args.robot:8s} {substeps:8d} {1 / env_time:11.0f} {1 / raw_time:11.0f} "
+          f"{env_time / raw_time:7.2f} {1e3 * time_reset(env):8.1f} "
+          f"{1e6 * time_alignment(env):8.1f} {env.task.furniture.connectors.num_pairs:5d}")
+    env.close()
+  print(f"\nmedian env/raw ratio over {len(ratios)} models: {np.median(ratios):.2f}")
+
+
+if __name__ == "__main__":
+  main()
