@@ -1,18 +1,27 @@
 """ikea_suite: long-horizon furniture assembly tasks for MuJoCo and dm_control.
 
     env = ikea_suite.load("table_four_leg_lack", "cursor", seed=0)
+
+On a Linux machine with no display, MUJOCO_GL defaults to "egl" (headless
+rendering) unless the user set it; this must happen before dm_control loads.
 """
 
-from ikea_suite.errors import ActionError
-from ikea_suite.errors import IkeaSuiteError
-from ikea_suite.errors import ModelFormatError
-from ikea_suite.errors import UnknownNameError
-from ikea_suite.suite import DEFAULT_FURNITURE
-from ikea_suite.suite import DEFAULT_ROBOT
-from ikea_suite.suite import all_environments
-from ikea_suite.suite import furniture_names
-from ikea_suite.suite import load
-from ikea_suite.suite import robot_names
+import os as _os
+import sys as _sys
+
+if _sys.platform.startswith("linux") and not _os.environ.get("DISPLAY"):
+  _os.environ.setdefault("MUJOCO_GL", "egl")
+
+from ikea_suite.errors import ActionError  # noqa: E402  (after the rendering default)
+from ikea_suite.errors import IkeaSuiteError  # noqa: E402
+from ikea_suite.errors import ModelFormatError  # noqa: E402
+from ikea_suite.errors import UnknownNameError  # noqa: E402
+from ikea_suite.suite import DEFAULT_FURNITURE  # noqa: E402
+from ikea_suite.suite import DEFAULT_ROBOT  # noqa: E402
+from ikea_suite.suite import all_environments  # noqa: E402
+from ikea_suite.suite import furniture_names  # noqa: E402
+from ikea_suite.suite import load  # noqa: E402
+from ikea_suite.suite import robot_names  # noqa: E402
 
 
 def __getattr__(name):

@@ -5,7 +5,9 @@ Connectors A and B are attachable when
   cos(up_A, up_B) > up_cos,
   max over allowed twists t of cos(R(up_A, t) fwd_A, fwd_B) > forward_cos.
 Because fwd_A is orthogonal to up_A, R(up_A, t) fwd_A = cos t fwd_A + sin t (up_A x fwd_A),
-so every twist costs one multiply-add on two dot products.
+so every twist costs one multiply-add on two dot products. Both forward vectors
+are measured in the plane normal to the mean up vector, which makes the test
+symmetric in A and B; when the up vectors coincide it is exactly the paper's.
 """
 
 import dataclasses
@@ -34,15 +36,23 @@ class PairAlignment:
             & (self.forward_cos > thresholds.forward_cos))
 
 
+def _in_plane(vectors, normal):
+  """Unit projections of `vectors` onto the planes normal to `normal` (both (p, 3))."""
+  projected = vectors - normal * np.einsum("pi,pi->p", vectors, normal)[:, None]
+  return projected / np.maximum(np.linalg.norm(projected, axis=1, keepdims=True), 1e-9)
+
+
 def align_pairs(pos, rot, table):
   """Scores every candidate pair of `table` given connector world frames (c,3) and (c,3,3)."""
   a, b = table.pair_a, table.pair_b
   rot_a, rot_b = rot[a], rot[b]
   distance = np.linalg.norm(pos[a] - pos[b], axis=1)
   up_cos = np.einsum("pi,pi->p", rot_a[:, :, 2], rot_b[:, :, 2])
-  fwd_b = rot_b[:, :, 0]
-  c = np.einsum("pi,pi->p", rot_a[:, :, 0], fwd_b)   # cos of the measured twist
-  s = np.einsum("pi,pi->p", rot_a[:, :, 1], fwd_b)   # sin of the measured twist
+  up = rot_a[:, :, 2] + rot_b[:, :, 2]
+  up /= np.maximum(np.linalg.norm(up, axis=1, keepdims=True), 1e-9)
+  fwd_a, fwd_b = _in_plane(rot_a[:, :, 0], up), _in_plane(rot_b[:, :, 0], up)
+  c = np.einsum("pi,pi->p", fwd_a, fwd_b)                     # cos of the measured twist
+  s = np.einsum("pi,pi->p", np.cross(up, fwd_a), fwd_b)       # sin of the measured twist
   per_twist = table.twist_cos * c[:, None] + table.twist_sin * s[:, None]
   per_twist = np.where(table.twist_valid, per_twist, -np.inf)
   best = np.argmax(per_twist, axis=1)

@@ -1,0 +1,77 @@
+"""`ikea-suite-rollout`: run episodes headless and print a summary of each.
+
+    ikea-suite-rollout                       # the Cursor oracle on the default furniture
+    ikea-suite-rollout --policy random --furniture chair_back_ivar --episodes 3
+"""
+
+import argparse
+import sys
+import time
+
+import numpy as np
+
+import ikea_suite  # sets MUJOCO_GL=egl on a display-less Linux machine
+from ikea_suite.oracle import cursor_oracle
+
+POLICIES = ("oracle", "random")
+
+
+def make_policy(name, env, seed):
+  if name == "oracle":
+    if env.task.robot.__class__.__name__ != "Cursor":
+      raise ikea_suite.IkeaSuiteError("the oracle policy drives the cursor robot; use --policy random")
+    return cursor_oracle.CursorOracle(env)
+  rng = np.random.default_rng(seed)
+  spec = env.action_spec()
+  return lambda timestep: rng.uniform(spec.minimum, spec.maximum, spec.shape)
+
+
+def run_episode(env, policy):
+  """Runs one episode; returns a dict summary."""
+  start = time.perf_counter()
+  timestep = env.reset()
+  if hasattr(policy, "reset"):
+    policy.reset()
+  steps, episode_return = 0, 0.0
+  while not timestep.last():
+    timestep = env.step(policy(timestep))
+    steps += 1
+    episode_return += timestep.reward
+  seconds = time.perf_counter() - start
+  state = env.task.state
+  return {"steps": steps, "connections": len(state.connections),
+          "needed": len(env.task.furniture.parts) - 1, "success": state.complete,
+          "return": episode_return, "seconds": seconds, "steps_per_second": steps / seconds}
+
+
+def main(argv=None):
+  parser = argparse.ArgumentParser(description="Run ikea_suite episodes headless.")
+  parser.add_argument("--furniture", default=ikea_suite.DEFAULT_FURNITURE)
+  parser.add_argument("--robot", default=ikea_suite.DEFAULT_ROBOT)
+  parser.add_argument("--policy", default="oracle", choices=POLICIES)
+  parser.add_argument("--episodes", type=int, default=1)
+  parser.add_argument("--seed", type=int, default=0)
+  parser.add_argument("--time-limit", type=float, default=None, help="seconds of simulated time")
+  args = parser.parse_args(argv)
+  options = {} if args.time_limit is None else {"time_limit": args.time_limit}
+  try:
+    env = ikea_suite.load(args.furniture, args.robot, seed=args.seed, **options)
+    policy = make_policy(args.policy, env, args.seed)
+  except ikea_suite.IkeaSuiteError as e:
+    print(f"error: {e}", file=sys.stderr)
+    return 2
+  print(f"{args.furniture} with {args.robot}, {args.policy} policy, "
+        f"{len(env.task.furniture.parts)} parts, seed {args.seed}")
+  successes = 0
+  for episode in range(args.episodes):
+    s = run_episode(env, policy)
+    successes += s["success"]
+    print(f"episode {episode}: steps {s['steps']}, connections {s['connections']}/{s['needed']}, "
+          f"success {s['success']}, return {s['return']:.1f}, wall time {s['seconds']:.2f} s "
+          f"({s['steps_per_second']:.0f} steps/s)")
+  print(f"success rate {successes}/{args.episodes}")
+  return 0
+
+
+if __name__ == "__main__":
+  sys.exit(main())

@@ -1,0 +1,49 @@
+"""Small helpers shared by tests: placing parts in their assembled pose."""
+
+import numpy as np
+
+from ikea_suite import geometry
+
+LIFT = np.array([0.0, 0.0, 0.5])
+
+
+def place_assembled(env, parts, offset=LIFT, extra_rot=None, extra_pos=None):
+  """Puts `parts` (indices) at their assembled pose, raised by `offset`."""
+  physics, furniture = env.physics, env.task.furniture
+  for index in parts:
+    spec = furniture.spec.parts[index]
+    rot, pos = spec.rot, spec.pos + offset
+    if extra_rot is not None and extra_rot.get(index) is not None:
+      rot = extra_rot[index] @ rot
+    if extra_pos is not None and extra_pos.get(index) is not None:
+      pos = pos + extra_pos[index]
+    furniture.parts[index].set_pose(physics, position=pos, quaternion=geometry.mat_to_quat(rot))
+    furniture.parts[index].set_velocity(physics, velocity=np.zeros(3), angular_velocity=np.zeros(3))
+  physics.forward()
+
+
+def part_index(env, name):
+  return env.task.furniture.spec.part_index(name)
+
+
+def connect_action(env):
+  action = np.zeros(env.action_spec().shape)
+  action[-1] = 1.0
+  return action
+
+
+def idle_action(env):
+  return np.zeros(env.action_spec().shape)
+
+
+def geoms_collide(physics, geom_a, geom_b):
+  """MuJoCo's contype/conaffinity filter for two geoms."""
+  m = physics.model
+  return bool((m.geom_contype[geom_a] & m.geom_conaffinity[geom_b])
+              or (m.geom_contype[geom_b] & m.geom_conaffinity[geom_a]))
+
+
+def first_geom(env, part):
+  physics = env.physics
+  body = env.task.furniture.body_ids[part]
+  return int(np.flatnonzero(physics.model.geom_bodyid == body)[0])

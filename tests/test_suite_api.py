@@ -1,0 +1,63 @@
+"""The public face: load, names, ALL, and clear errors for bad input."""
+
+import numpy as np
+import pytest
+
+import ikea_suite
+
+
+def test_names_and_all():
+  furniture, robots = ikea_suite.furniture_names(), ikea_suite.robot_names()
+  assert ikea_suite.DEFAULT_FURNITURE in furniture and "cursor" in robots
+  assert set(ikea_suite.ALL) == {(f, r) for f in furniture for r in robots}
+  assert ikea_suite.furniture_names(tag="table")
+  assert all(n.startswith("table") for n in ikea_suite.furniture_names(tag="table"))
+
+
+def test_default_load_is_the_documented_one():
+  env = ikea_suite.load(seed=0)
+  assert env.task.furniture.name == ikea_suite.DEFAULT_FURNITURE
+  assert type(env.task.robot).__name__ == "Cursor"
+
+
+@pytest.mark.parametrize("kwargs, kind, bad", [
+    ({"furniture": "table_ikea_nope"}, "furniture", "table_ikea_nope"),
+    ({"robot": "r2d2"}, "robot", "r2d2"),
+    ({"gravity_on_mars": True}, "option", "gravity_on_mars"),
+])
+def test_unknown_names_list_the_valid_ones(kwargs, kind, bad):
+  with pytest.raises(ikea_suite.UnknownNameError) as info:
+    ikea_suite.load(**kwargs)
+  message = str(info.value)
+  assert f"unknown {kind} '{bad}'" in message
+  valid = {"furniture": ikea_suite.DEFAULT_FURNITURE, "robot": "cursor", "option": "time_limit"}[kind]
+  assert valid in message
+
+
+@pytest.fixture(scope="module")
+def env():
+  return ikea_suite.load(seed=0)
+
+
+@pytest.mark.parametrize("action, message", [
+    (np.zeros(14), r"shape \(14,\), expected \(15,\)"),
+    (np.zeros((15, 1)), r"shape \(15, 1\)"),
+    (np.r_[np.zeros(14), np.nan], "non-finite entries: connect=nan"),
+    (np.r_[np.inf, np.zeros(14)], "cursor0_move_x=inf"),
+    ("go left", "must be numeric"),
+])
+def test_bad_actions_raise_action_error(env, action, message):
+  env.reset()
+  with pytest.raises(ikea_suite.ActionError, match=message):
+    env.step(action)
+
+
+def test_thresholds_are_options():
+  env = ikea_suite.load(seed=0, distance_threshold=0.05, up_threshold=0.9, forward_threshold=0.8)
+  thresholds = env.task.thresholds
+  assert (thresholds.distance, thresholds.up_cos, thresholds.forward_cos) == (0.05, 0.9, 0.8)
+
+
+def test_robot_options_reach_the_robot():
+  env = ikea_suite.load(seed=0, move_speed=0.25)
+  assert env.task.robot._move_speed == 0.25

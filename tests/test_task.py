@@ -1,0 +1,169 @@
+"""Connecting parts: the alignment check in before_step, snapping, welds, collision groups, rewards."""
+
+import numpy as np
+import pytest
+
+import ikea_suite
+from ikea_suite import geometry
+from tests import helpers
+
+TABLE = "table_four_leg_lack"
+
+
+@pytest.fixture
+def env():
+  environment = ikea_suite.load(TABLE, seed=0)
+  environment.reset()
+  return environment
+
+
+def top_and_legs(env):
+  return helpers.part_index(env, "top"), [helpers.part_index(env, f"leg{i}") for i in range(4)]
+
+
+def connector_gap(env, pair_parts):
+  """Smallest distance between used connector pairs' frames (0 when snapped exactly)."""
+  scores = env.task.alignment(env.physics)
+  table = env.task.furniture.connectors
+  used = [i for i in range(table.num_pairs)
+          if env.task.state.connector_used[table.pair_a[i]] and env.task.state.connector_used[table.pair_b[i]]
+          and {table.part[table.pair_a[i]], table.part[table.pair_b[i]]} == set(pair_parts)]
+  return min(scores.distance[used])
+
+
+def test_aligned_pair_connects_welds_and_rewards(env):
+  top, legs = top_and_legs(env)
+  helpers.place_assembled(env, [top, legs[0]])
+  timestep = env.step(helpers.connect_action(env))
+  assert timestep.reward == 1.0
+  assert env.task.state.same_group(top, legs[0])
+  assert timestep.observation["connections"][top, legs[0]] == 1.0
+  assert sum(timestep.observation["connectors_used"]) == 2
+  assert env.task._welds.active_pairs(env.physics) == [tuple(sorted((top, legs[0])))]
+  # Joined parts stop colliding with each other, not with the rest.
+  physics = env.physics
+  assert not helpers.geoms_collide(physics, helpers.first_geom(env, top), helpers.first_geom(env, legs[0]))
+  assert helpers.geoms_collide(physics, helpers.first_geom(env, top), helpers.first_geom(env, legs[1]))
+  floor = physics.bind(env.task.arena.floor).element_id
+  assert helpers.geoms_collide(physics, helpers.first_geom(env, legs[0]), floor)
+
+
+def test_welded_parts_move_as_one(env):
+  top, legs = top_and_legs(env)
+  helpers.place_assembled(env, [top, legs[0]])
+  env.step(helpers.connect_action(env))
+  positions, rotations = env.task.furniture.part_poses(env.physics)
+  before = rotations[top].T @ (positions[legs[0]] - positions[top])
+  for _ in range(40):   # two seconds of falling and landing
+    timestep = env.step(helpers.idle_action(env))
+  positions, rotations = env.task.furniture.part_poses(env.physics)
+  after = rotations[top].T @ (positions[legs[0]] - positions[top])
+  assert np.linalg.norm(after - before) < 2e-3
+  assert positions[top][2] < 0.5   # it did fall
+
+
+def test_no_connection_without_connect_action(env):
+  top, legs = top_and_legs(env)
+  helpers.place_assembled(env, [top, legs[0]])
+  timestep = env.step(helpers.idle_action(env))
+  assert timestep.reward == 0.0 and not env.task.state.connections
+
+
+def test_misaligned_pair_does_not_connect(env):
+  top, legs = top_and_legs(env)
+  helpers.place_assembled(env, [top, legs[0]], extra_pos={legs[0]: np.array([0.05, 0, 0])})
+  timestep = env.step(helpers.connect_action(env))
+  assert timestep.reward == 0.0 and not env.task.state.connections
+
+
+@pytest.mark.parametrize("twist_deg, connects", [(90, True), (180, True), (45, False)])
+def test_square_leg_twists(env, twist_deg, connects):
+  top, legs = top_and_legs(env)
+  turn = geometry.rot_z(np.radians(twist_deg))
+  helpers.place_assembled(env, [top, legs[0]], extra_rot={legs[0]: turn})
+  # Rotating the leg about world z moves it off its corner; turn about its own axis instead.
+  spec = env.task.furniture.spec.parts[legs[0]]
+  env.task.furniture.parts[legs[0]].set_pose(
+      env.physics, position=spec.pos + helpers.LIFT, quaternion=geometry.mat_to_quat(turn @ spec.rot))
+  env.physics.forward()
+  env.step(helpers.connect_action(env))
+  assert bool(env.task.state.connections) is connects
+
+
+def test_near_alignment_snaps_exactly(env):
+  top, legs = top_and_legs(env)
+  tilt = geometry.axis_angle_to_mat(np.radians([3.0, -2.0, 4.0]))
+  helpers.place_assembled(env, [top, legs[0]], extra_rot={legs[0]: tilt},
+                          extra_pos={legs[0]: np.array([0.006, -0.004, 0.003])})
+  env.step(helpers.connect_action(env))
+  assert env.task.state.connections
+  # The weld holds the snapped relative pose: the legs' connector sits on the slot.
+  assert connector_gap(env, (top, legs[0])) < 2e-3
+
+
+def test_identical_legs_are_interchangeable(env):
+  top, legs = top_and_legs(env)
+  spec = env.task.furniture.spec.parts
+  # Put leg1 where leg0 belongs.
+  env.task.furniture.parts[legs[1]].set_pose(
+      env.physics, position=spec[legs[0]].pos + helpers.LIFT, quaternion=[1, 0, 0, 0])
+  helpers.place_assembled(env, [top])
+  env.step(helpers.connect_action(env))
+  assert env.task.state.same_group(top, legs[1])
+
+
+def test_a_connector_is_used_once(env):
+  top, legs = top_and_legs(env)
+  helpers.place_assembled(env, [top, legs[0]])
+  env.step(helpers.connect_action(env))
+  # leg1 into the slot leg0 already uses: nothing may connect.
+  spec = env.task.furniture.spec.parts
+  positions, rotations = env.task.furniture.part_poses(env.physics)
+  slot_offset = spec[legs[0]].pos - spec[top].pos
+  env.task.furniture.parts[legs[1]].set_pose(
+      env.physics, position=positions[top] + rotations[top] @ slot_offset,
+      quaternion=geometry.mat_to_quat(rotations[top]))
+  env.physics.forward()
+  timestep = env.step(helpers.connect_action(env))
+  assert timestep.reward == 0.0 and len(env.task.state.connections) == 1
+
+
+def test_completion_pays_bonus_and_ends_episode(env):
+  parts = range(len(env.task.furniture.parts))
+  rewards = []
+  for _ in parts:
+    helpers.place_assembled(env, parts)
+    timestep = env.step(helpers.connect_action(env))
+    rewards.append(timestep.reward)
+    if timestep.last():
+      break
+  assert env.task.state.complete
+  assert timestep.last() and timestep.discount == 0.0
+  assert rewards == [1.0, 1.0, 1.0, 11.0]
+  assert (timestep.observation["next_pair"] == -1).all()
+
+
+def test_next_pair_suggests_joining_the_root_group(env):
+  observation = env.step(helpers.idle_action(env)).observation
+  moving, target = observation["next_pair"].astype(int)
+  assert target == env.task.root_part == helpers.part_index(env, "top")
+  assert env.task.furniture.spec.parts[moving].name.startswith("leg")
+
+
+def test_physics_blow_up_ends_episode_without_raising(env):
+  env.physics.data.qvel[:] = 1e30
+  timestep = env.step(helpers.idle_action(env))
+  assert timestep.last() and timestep.discount == 0.0 and timestep.reward == 0.0
+  assert env.step(helpers.idle_action(env)).first()   # the next step resets
+
+
+def test_time_limit_truncates_with_discount_one():
+  env = ikea_suite.load(TABLE, seed=0, time_limit=0.5)
+  env.reset()
+  steps = 0
+  while True:
+    timestep = env.step(helpers.idle_action(env))
+    steps += 1
+    if timestep.last():
+      break
+  assert steps == 10 and timestep.discount == 1.0
