@@ -4,12 +4,15 @@ import inspect
 
 from ikea_suite import environment
 from ikea_suite import errors
-from ikea_suite.arenas import floor
+from ikea_suite.arenas import presets
 from ikea_suite.props import catalog
 from ikea_suite.props import furniture as furniture_lib
 from ikea_suite.robots import registry
 from ikea_suite.tasks import alignment
 from ikea_suite.tasks import assembly
+from ikea_suite.tasks import camera_observables
+from ikea_suite.tasks import placement
+from ikea_suite.tasks import randomization
 
 DEFAULT_FURNITURE = "table_four_leg_lack"
 DEFAULT_ROBOT = "cursor"
@@ -19,6 +22,9 @@ TASK_OPTIONS = ("control_timestep", "physics_timestep", "connection_reward", "co
 THRESHOLD_OPTIONS = {"distance_threshold": "distance", "up_threshold": "up_cos",
                      "forward_threshold": "forward_cos"}
 ENVIRONMENT_OPTIONS = ("time_limit",)
+# Scene preset, placement, randomization and cameras: see docs/observations.md.
+SCENE_OPTIONS = (("scene",) + placement.OPTIONS + randomization.OPTIONS
+                 + camera_observables.OPTIONS)
 DEFAULT_TIME_LIMIT = 150.0   # seconds of simulated time: 3000 control steps at 20 Hz
 
 
@@ -34,23 +40,32 @@ def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options)
   connection_reward, completion_bonus; distance_threshold (m), up_threshold
   and forward_threshold (cosines); and the robot's own options (for the
   cursor: move_speed, rotate_speed, grasp_margin, workspace, radius).
+  Scene: scene (preset name), spread, preassembled, yaw_range, randomize;
+  images: cameras, camera_outputs, image_size, goal_image (docs/observations.md).
   Unknown names raise UnknownNameError listing the valid ones.
   """
   path = catalog.path_of(furniture)
   robot_entry = registry.get(robot)
   robot_keys = _robot_options(robot_entry.factory)
-  valid = set(TASK_OPTIONS) | set(THRESHOLD_OPTIONS) | set(ENVIRONMENT_OPTIONS) | set(robot_keys)
+  valid = (set(TASK_OPTIONS) | set(THRESHOLD_OPTIONS) | set(ENVIRONMENT_OPTIONS) | set(robot_keys)
+           | set(SCENE_OPTIONS))
   for key in options:
     if key not in valid:
       raise errors.UnknownNameError("option", key, valid)
   thresholds = alignment.Thresholds(**{field: options[key] for key, field in THRESHOLD_OPTIONS.items()
                                        if key in options})
+  def picked(names):
+    return {k: options[k] for k in names if k in options}
+  furniture_prop = furniture_lib.Furniture(path)
   task = assembly.Assembly(
-      arena=floor.FloorArena(),
-      furniture=furniture_lib.Furniture(path),
+      arena=presets.make_arena(options.get("scene", "default")),
+      furniture=furniture_prop,
+      initializer=placement.scattered_parts(furniture_prop, **picked(placement.OPTIONS)),
       robot=robot_entry.factory(**{k: options[k] for k in robot_keys if k in options}),
       thresholds=thresholds,
       **{k: options[k] for k in TASK_OPTIONS if k in options})
+  randomization.attach(task, **picked(randomization.OPTIONS))
+  camera_observables.attach(task, **picked(camera_observables.OPTIONS))
   return environment.Environment(
       task, time_limit=options.get("time_limit", DEFAULT_TIME_LIMIT), random_state=seed)
 

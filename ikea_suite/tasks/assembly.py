@@ -43,7 +43,10 @@ class Assembly(composer.Task):
     self._root = planner.root_part(furniture.spec)
     self.set_timesteps(control_timestep=control_timestep, physics_timestep=physics_timestep)
     robot.bind_scene(arena, furniture, self._state, self.control_timestep)
-    self._initializer = initializer or placement.ScatteredParts(furniture)
+    initializer = initializer or placement.ScatteredParts(furniture)
+    if hasattr(robot, "part_initializer"):   # a fixed-base arm keeps parts within its reach
+      initializer = robot.part_initializer(furniture, initializer)
+    self._initializer = initializer
     self._step_reward = 0.0
     self._suggestion_key = None
     self._task_observables = {
@@ -89,6 +92,9 @@ class Assembly(composer.Task):
     self._welds.reset(physics)
     self._collisions.reset(physics)
     self._initializer(physics, random_state)
+    # Curriculum initializers leave connector pairs they placed assembled.
+    for pair in getattr(self._initializer, "preassembled_pairs", ()):
+      self.connect_in_place(physics, pair)
     self._step_reward = 0.0
 
   def before_step(self, physics, action, random_state):
@@ -158,6 +164,10 @@ class Assembly(composer.Task):
     pair = candidates[np.argmin(scores.distance[candidates])]
     self._join(physics, pair, scores.twist[pair])
     return True
+
+  def connect_in_place(self, physics, pair):
+    """Connects connector pair `pair` whose parts already sit in their mating pose."""
+    self._join(physics, int(pair), self.alignment(physics).twist[pair])
 
   def _join(self, physics, pair, twist):
     table = self._table

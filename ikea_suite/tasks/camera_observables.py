@@ -192,3 +192,19 @@ class CameraRig(composer.Entity):
 def cameras_kinds(outputs):
   """The image kinds among `outputs`, in canonical order."""
   return [kind for kind in cameras.IMAGE_KINDS if kind in outputs]
+
+
+OPTIONS = ("cameras", "camera_outputs", "image_size", "goal_image")
+
+
+def attach(task, cameras=(), camera_outputs=("rgb",), image_size=84, goal_image=False):
+  """Attaches a CameraRig to the task's arena when cameras are chosen; returns it or None."""
+  if isinstance(cameras, str):
+    cameras = (cameras,)
+  image_shape(image_size)   # checked even when no camera is chosen
+  if not cameras:
+    return None
+  rig = CameraRig(task.arena, task.furniture, task.robot, cameras=cameras, outputs=camera_outputs,
+                  image_size=image_size, goal_image=goal_image)
+  task.arena.attach(rig)
+  return rig

@@ -5,6 +5,7 @@ from dm_control import composer
 from dm_control.composer.variation import distributions
 
 from ikea_suite import geometry
+from ikea_suite.tasks import randomization
 
 _LIE_FLAT = {0: np.array([[0.0, 0, -1], [0, 1, 0], [1, 0, 0]]),   # part x axis to world z
              1: np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]]),   # part y axis to world z
@@ -32,31 +33,78 @@ class ScatteredParts(composer.Initializer):
 
   The ring starts `clearance` beyond the assembled furniture's radius and is
   `spread` metres wide; `yaw` is a dm_control distribution (radians).
+
+  Curriculum: `preassembled` (an int, or an inclusive (low, high) range drawn
+  each episode) connections are made before the episode starts. They are a
+  random forest of the connections of the assembled design; each resulting
+  group keeps its assembled shape, upright, and is scattered like a part.
+  The count is capped at parts - 2 so at least one connection remains. The
+  chosen connector pairs are left in `preassembled_pairs` for the task to weld.
   """
 
   def __init__(self, furniture, spread=0.9, clearance=0.15, gap=0.03,
-               yaw=distributions.Uniform(-np.pi, np.pi), max_attempts=500):
+               yaw=distributions.Uniform(-np.pi, np.pi), max_attempts=500, preassembled=0):
     self._furniture = furniture
     self._spread, self._gap, self._yaw = spread, gap, yaw
     self._inner = assembled_radius(furniture.spec) + clearance
     self._max_attempts = max_attempts
+    self._preassembled = preassembled_range(preassembled)
+    self._design_pairs = design_pairs(furniture.spec, furniture.connectors)
+    self.preassembled_pairs = []
 
   def __call__(self, physics, random_state):
     placed = []   # (xy, radius)
-    specs = self._furniture.spec.parts
-    order = sorted(range(len(specs)), key=lambda i: -np.ptp(_corners(specs[i].bounds), axis=0).max())
-    for index in order:
-      spec = specs[index]
-      rot = geometry.rot_z(self._yaw(random_state=random_state)) @ resting_rotation(spec.bounds)
-      corners = _corners(spec.bounds) @ rot.T
+    for item in self._items(random_state):
+      yaw_rot = geometry.rot_z(self._yaw(random_state=random_state))
+      rots = [yaw_rot @ rot for _, rot, _ in item]
+      offsets = [yaw_rot @ pos for _, _, pos in item]
+      corners = np.concatenate([_corners(self._spec(i).bounds) @ rot.T + offset
+                                for (i, _, _), rot, offset in zip(item, rots, offsets)])
       center_xy = (corners[:, :2].max(0) + corners[:, :2].min(0)) / 2
       radius = np.linalg.norm(corners[:, :2] - center_xy, axis=1).max()
       xy = self._sample_xy(random_state, radius, placed)
       placed.append((xy, radius))
-      pos = np.array([*(xy - center_xy), -corners[:, 2].min() + 1e-3])
-      part = self._furniture.parts[index]
-      part.set_pose(physics, position=pos, quaternion=geometry.mat_to_quat(rot))
-      part.set_velocity(physics, velocity=np.zeros(3), angular_velocity=np.zeros(3))
+      shift = np.array([*(xy - center_xy), -corners[:, 2].min() + 1e-3])
+      for (index, _, _), rot, offset in zip(item, rots, offsets):
+        part = self._furniture.parts[index]
+        part.set_pose(physics, position=offset + shift, quaternion=geometry.mat_to_quat(rot))
+        part.set_velocity(physics, velocity=np.zeros(3), angular_velocity=np.zeros(3))
+
+  def _spec(self, index):
+    return self._furniture.spec.parts[index]
+
+  def _items(self, random_state):
+    """Lists of (part, rotation, position) to place rigidly together, largest first."""
+    groups = self._choose_groups(random_state)
+    items = []
+    for group in groups:
+      if len(group) == 1:
+        spec = self._spec(group[0])
+        items.append([(group[0], resting_rotation(spec.bounds), np.zeros(3))])
+      else:
+        items.append([(i, self._spec(i).rot, self._spec(i).pos) for i in group])
+    def extent(item):
+      return np.ptp(np.concatenate([_corners(self._spec(i).bounds) @ rot.T + pos
+                                    for i, rot, pos in item]), axis=0).max()
+    return sorted(items, key=lambda item: -extent(item))
+
+  def _choose_groups(self, random_state):
+    num_parts = len(self._furniture.parts)
+    self.preassembled_pairs = []
+    low, high = self._preassembled
+    if high == 0:
+      return [[i] for i in range(num_parts)]
+    count = min(int(random_state.randint(low, high + 1)), max(num_parts - 2, 0))
+    table = self._furniture.connectors
+    group = list(range(num_parts))
+    for pair in random_state.permutation(self._design_pairs):
+      if len(self.preassembled_pairs) >= count:
+        break
+      a, b = group[table.part[table.pair_a[pair]]], group[table.part[table.pair_b[pair]]]
+      if a != b:
+        group = [a if g == b else g for g in group]
+        self.preassembled_pairs.append(int(pair))
+    return [[i for i in range(num_parts) if group[i] == g] for g in sorted(set(group))]
 
   def _sample_xy(self, random_state, radius, placed):
     for _ in range(self._max_attempts):
@@ -67,3 +115,34 @@ class ScatteredParts(composer.Initializer):
         return xy
     raise composer.EpisodeInitializationError(
         f"could not place a part of radius {radius:.2f} m without overlap; raise `spread`")
+
+
+def preassembled_range(preassembled):
+  """(low, high) connection counts from an int or a pair; raises OptionValueError otherwise."""
+  pair = (preassembled, preassembled) if np.isscalar(preassembled) else tuple(preassembled)
+  if (len(pair) != 2 or not all(isinstance(v, (int, np.integer)) for v in pair)
+      or not 0 <= pair[0] <= pair[1]):
+    raise randomization.OptionValueError(
+        f"preassembled must be a count >= 0 or a (low, high) range of counts, got {preassembled!r}")
+  return int(pair[0]), int(pair[1])
+
+
+def design_pairs(spec, table):
+  """Indices of the connector pairs that coincide in the assembled design."""
+  pos = np.array([p.pos for p in spec.parts])
+  rot = np.array([p.rot for p in spec.parts])
+  cpos, _ = table.world_frames(pos, rot)
+  distance = np.linalg.norm(cpos[table.pair_a] - cpos[table.pair_b], axis=1)
+  return np.flatnonzero(distance < 1e-4)
+
+
+OPTIONS = ("spread", "preassembled", "yaw_range")
+
+
+def scattered_parts(furniture, spread=0.9, preassembled=0, yaw_range=np.pi):
+  """ScatteredParts from load() options: ring width (m), curriculum count, largest |yaw| (rad)."""
+  for name, value in (("spread", spread), ("yaw_range", yaw_range)):
+    if not np.isscalar(value) or not 0 <= value < np.inf:
+      raise randomization.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
+  return ScatteredParts(furniture, spread=float(spread), preassembled=preassembled,
+                        yaw=distributions.Uniform(-float(yaw_range), float(yaw_range)))

@@ -1,7 +1,241 @@
-"""Domain randomization of physics and visuals, applied at the start of every episode."""
+"""Domain randomization of physics and visuals, drawn anew at the start of every episode.
+
+`SceneRandomizer` is an entity without bodies attached to the arena. It binds
+dm_control variations (`composer.variation`) to MJCF elements and applies
+them through a `PhysicsVariator` in `initialize_episode`, so nothing is
+recompiled and the same seed reproduces the same scene. Every factor is off
+unless named; `DEFAULTS` gives the value a factor takes when switched on by
+name. The extra lights, floor materials and walls it needs are built only
+for the factors switched on.
+"""
+
+import numpy as np
+from dm_control import composer
+from dm_control import mjcf
+from dm_control.composer import variation
+from dm_control.composer.variation import colors
+from dm_control.composer.variation import distributions
+from dm_control.composer.variation import noises
 
 from ikea_suite import errors
+from ikea_suite.arenas import presets
 
 
 class OptionValueError(errors.IkeaSuiteError, ValueError):
   """An option whose value is out of range or of the wrong form."""
+
+
+# factor: (default when on, meaning). Ranges are inclusive (low, high).
+FACTORS = {
+    "gravity": ((9.0, 10.6), "gravity magnitude, m/s^2 (pointing down)"),
+    "friction": ((0.5, 1.5), "multiplier of each part's and the floor's friction"),
+    "part_mass": ((0.5, 2.0), "multiplier of each part's mass and inertia"),
+    "part_damping": ((0.0, 0.5), "damping of each part's free joint, N s/m and N m s/rad"),
+    "light_count": ((1, 4), "number of lights switched on"),
+    "light_position": (0.5, "largest shift of each light's position and direction, m"),
+    "light_color": (0.3, "largest saturation of each light's random hue (0: white)"),
+    "light_intensity": ((0.5, 1.5), "multiplier of each light's brightness"),
+    "floor": (True, "floor texture drawn among procedural patterns, random colour"),
+    "background": (True, "backdrop walls with a random procedural texture and colour"),
+    "part_color": (True, "a random colour for each part"),
+    "part_material": (True, "random specular, shininess and reflectance of each part"),
+    "camera_jitter": (0.05, "largest shift of each arena camera and its look-at point, m"),
+}
+PHYSICS_FACTORS = ("gravity", "friction", "part_mass", "part_damping")
+GROUPS = {"physics": PHYSICS_FACTORS,
+          "visual": tuple(f for f in FACTORS if f not in PHYSICS_FACTORS),
+          "all": tuple(FACTORS)}
+_RANGES = ("gravity", "friction", "part_mass", "part_damping", "light_count", "light_intensity")
+_AMOUNTS = ("light_position", "light_color", "camera_jitter")
+_SWITCHES = ("floor", "background", "part_color", "part_material")
+
+MAX_LIGHTS = 4
+_FLOOR_PATTERNS = (
+    dict(builtin="checker", rgb1=(1, 1, 1), rgb2=(0.8, 0.8, 0.8)),
+    dict(builtin="checker", rgb1=(0.9, 0.9, 0.9), rgb2=(0.9, 0.9, 0.9), mark="edge",
+         markrgb=(0.5, 0.5, 0.5)),
+    dict(builtin="flat", rgb1=(0.9, 0.9, 0.9), rgb2=(0.9, 0.9, 0.9), mark="random",
+         markrgb=(0.6, 0.6, 0.6), random=0.3),
+    dict(builtin="gradient", rgb1=(1, 1, 1), rgb2=(0.7, 0.7, 0.7)),
+)
+_EXTRA_LIGHTS = (((-1.5, -1.5, 3.0), (0.4, 0.4, -1.0)), ((1.5, 1.5, 3.0), (-0.4, -0.4, -1.0)),
+                 ((0.0, 2.0, 3.0), (0.0, -0.5, -1.0)), ((-2.0, 0.0, 3.0), (0.5, 0.0, -1.0)))
+
+
+def _random_color(saturation=(0.15, 0.75), value=(0.3, 0.95)):
+  return colors.HsvVariation(_one(0.0, 1.0), _one(*saturation), _one(*value))
+
+
+def _one(low, high):
+  """One uniform number per draw, whatever the shape of the attribute it varies."""
+  return distributions.Uniform(low, high, single_sample=True)
+
+
+def _shift(amount):
+  return noises.Additive(distributions.Uniform(-amount * np.ones(3), amount * np.ones(3)))
+
+
+def parse(randomize):
+  """{factor: value} from None, a name (factor or group), names, or a {factor: value} dict.
+
+  A value of None or False switches a factor off; True takes its default.
+  """
+  if randomize is None or randomize is False:
+    return {}
+  if isinstance(randomize, str):
+    randomize = [randomize]
+  if not isinstance(randomize, dict):
+    chosen = {}
+    for name in randomize:
+      if name not in FACTORS and name not in GROUPS:
+        raise errors.UnknownNameError("randomization factor", name, list(FACTORS) + list(GROUPS))
+      chosen.update({f: True for f in GROUPS.get(name, (name,))})
+    randomize = chosen
+  factors = {}
+  for name, value in randomize.items():
+    if name not in FACTORS:
+      raise errors.UnknownNameError("randomization factor", name, FACTORS)
+    if value is None or value is False:
+      continue
+    factors[name] = _check(name, FACTORS[name][0] if value is True else value)
+  return factors
+
+
+def _check(name, value):
+  if name in _SWITCHES:
+    if value is not True:
+      raise OptionValueError(f"randomization factor {name!r} is on/off: True, False or None, "
+                             f"got {value!r}")
+    return True
+  if name in _AMOUNTS:
+    if not np.isscalar(value) or not 0 <= value < np.inf:
+      raise OptionValueError(f"randomization factor {name!r} needs an amount >= 0, got {value!r}")
+    return float(value)
+  try:
+    low, high = value
+  except (TypeError, ValueError):
+    raise OptionValueError(f"randomization factor {name!r} needs a (low, high) range, "
+                           f"got {value!r}") from None
+  limit = MAX_LIGHTS if name == "light_count" else np.inf
+  if not 0 <= low <= high <= limit:
+    raise OptionValueError(f"randomization factor {name!r} needs 0 <= low <= high <= {limit}, "
+                           f"got {value!r}")
+  return (int(low), int(high)) if name == "light_count" else (float(low), float(high))
+
+
+class SceneRandomizer(composer.Entity):
+  """Applies the chosen factors to the arena, furniture and robot every episode."""
+
+  def _build(self, arena, furniture, factors):
+    self._mjcf_root = mjcf.RootElement(model="randomizer")
+    self._arena, self._furniture, self._factors = arena, furniture, dict(factors)
+    self._variator = variation.PhysicsVariator()
+    self._lights = arena.mjcf_model.find_all("light", exclude_attachments=True)
+    if "light_count" in factors:
+      for i in range(MAX_LIGHTS - len(self._lights)):
+        pos, direction = _EXTRA_LIGHTS[i]
+        self._lights.append(self._mjcf_root.worldbody.add(
+            "light", name=f"extra_{i}", pos=pos, dir=direction, directional=True,
+            diffuse=(0.3, 0.3, 0.3), castshadow=False))
+    self._floor_materials = [self._pattern_material(f"floor_{i}", pattern, (8, 8))
+                             for i, pattern in enumerate(_FLOOR_PATTERNS)] if "floor" in factors else []
+    self._wall_materials = []
+    if "background" in factors:
+      self._wall_materials.append(presets.add_walls(
+          self._mjcf_root, "wall", _FLOOR_PATTERNS[0], presets.WALL_DISTANCE - 0.05))
+      self._wall_materials += [self._pattern_material(f"wall_{i}", pattern, (6, 2))
+                               for i, pattern in enumerate(_FLOOR_PATTERNS[1:3])]
+    self._bind_variations()
+
+  def _pattern_material(self, name, pattern, repeat):
+    texture = self._mjcf_root.asset.add("texture", name=name, type="2d", width=128, height=128,
+                                        **pattern)
+    return self._mjcf_root.asset.add("material", name=name, texture=texture, texrepeat=repeat)
+
+  @property
+  def mjcf_model(self):
+    return self._mjcf_root
+
+  @property
+  def factors(self):
+    return dict(self._factors)
+
+  def _part_geoms(self):
+    return [g for part in self._furniture.parts for g in part.mjcf_model.find_all("geom")]
+
+  def _part_materials(self):
+    return [m for part in self._furniture.parts for m in part.mjcf_model.find_all("material")]
+
+  def _bind_variations(self):
+    f, bind = self._factors, self._variator.bind_attributes
+    if "friction" in f:
+      for geom in self._part_geoms() + [self._arena.floor]:
+        bind(geom, friction=noises.Multiplicative(_one(*f["friction"])))
+    if "part_damping" in f:
+      for frame in self._furniture.part_frames:
+        bind(frame.freejoint, damping=_one(*f["part_damping"]))
+    for light in self._lights:
+      if "light_position" in f:
+        bind(light, pos=_shift(f["light_position"]), dir=_shift(f["light_position"]))
+      if "light_color" in f or "light_intensity" in f:
+        scale = _one(*f.get("light_intensity", (1.0, 1.0)))
+        tint = colors.HsvVariation(_one(0.0, 1.0), _one(0.0, f.get("light_color", 0.0)), 1.0)
+        bind(light, diffuse=noises.Multiplicative(scale * tint[:3]))
+    for material in self._floor_materials + self._wall_materials:
+      bind(material, rgba=_random_color(value=(0.35, 1.0)))
+    for material in self._part_materials():
+      if "part_color" in f:
+        bind(material, rgba=_random_color())
+      if "part_material" in f:
+        bind(material, specular=_one(0.0, 0.8), shininess=_one(0.0, 0.9),
+             reflectance=_one(0.0, 0.2))
+    if "camera_jitter" in f:
+      for camera in self._arena.cameras.values():
+        bind(camera, pos=_shift(f["camera_jitter"]))
+        if camera.target is not None:
+          bind(camera.target, pos=_shift(f["camera_jitter"]))
+
+  def after_compile(self, physics, random_state):
+    model = physics.model
+    self._gravity = model.opt.gravity.copy()
+    self._part_bodies = np.array(physics.bind(self._furniture.part_frames).element_id)
+    self._mass = model.body_mass[self._part_bodies].copy()
+    self._inertia = model.body_inertia[self._part_bodies].copy()
+    self._light_ids = np.array([physics.bind(light).element_id for light in self._lights])
+    self._floor_id = physics.bind(self._arena.floor).element_id
+    self._floor_ids = [physics.bind(m).element_id for m in self._floor_materials]
+    walls = [g for g in self._mjcf_root.worldbody.find_all("geom") if g.name.startswith("wall")]
+    self._wall_geoms = np.array(physics.bind(walls).element_id if walls else [], dtype=int)
+    self._wall_ids = [physics.bind(m).element_id for m in self._wall_materials]
+
+  def initialize_episode(self, physics, random_state):
+    self._variator.apply_variations(physics, random_state)
+    model, f = physics.model, self._factors
+    if "gravity" in f:
+      down = self._gravity / max(np.linalg.norm(self._gravity), 1e-9)
+      model.opt.gravity[:] = down * random_state.uniform(*f["gravity"])
+    if "part_mass" in f:
+      scale = random_state.uniform(*f["part_mass"], size=len(self._part_bodies))
+      model.body_mass[self._part_bodies] = self._mass * scale
+      model.body_inertia[self._part_bodies] = self._inertia * scale[:, None]
+    if "light_count" in f:
+      count = random_state.randint(f["light_count"][0], f["light_count"][1] + 1)
+      model.light_active[self._light_ids] = False
+      model.light_active[random_state.choice(self._light_ids, count, replace=False)] = True
+    if self._floor_ids:
+      model.geom_matid[self._floor_id] = self._floor_ids[random_state.randint(len(self._floor_ids))]
+    if self._wall_ids:
+      model.geom_matid[self._wall_geoms] = self._wall_ids[random_state.randint(len(self._wall_ids))]
+
+
+OPTIONS = ("randomize",)
+
+
+def attach(task, randomize=None):
+  """Attaches a SceneRandomizer for `randomize` (see `parse`) to the task's arena, if any factor is on."""
+  factors = parse(randomize)
+  if not factors:
+    return None
+  randomizer = SceneRandomizer(task.arena, task.furniture, factors)
+  task.arena.attach(randomizer)
+  return randomizer
