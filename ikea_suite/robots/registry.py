@@ -3,7 +3,11 @@
 import dataclasses
 
 from ikea_suite import errors
+from ikea_suite.robots import baxter
 from ikea_suite.robots import cursor
+from ikea_suite.robots import jaco
+from ikea_suite.robots import panda
+from ikea_suite.robots import sawyer
 
 
 @dataclasses.dataclass(frozen=True)
@@ -33,3 +37,7 @@ def names(tag=None):
 
 
 register("cursor", cursor.Cursor, tags=("floating", "bimanual"))
+register("sawyer", sawyer.Sawyer, tags=("arm", "single_arm", "paper"))
+register("baxter", baxter.Baxter, tags=("arm", "bimanual", "paper"))
+register("panda", panda.Panda, tags=("arm", "single_arm"))
+register("jaco", jaco.Jaco, tags=("arm", "single_arm"))

@@ -1,0 +1,44 @@
+"""Rethink Baxter: two 7-DoF arms on a torso, a Rethink electric gripper on each.
+
+Torso on the floor at (-0.6, 0, 0.06) facing +x. The action covers both
+arms, right arm first: each arm's entries are prefixed `right_` / `left_`.
+"""
+
+import numpy as np
+from dm_control import mjcf
+
+from ikea_suite.robots import grippers
+from ikea_suite.robots import manipulator
+from ikea_suite.robots import robot_facts
+
+_JOINT_SUFFIXES = ("s0", "s1", "e0", "e1", "w0", "w1", "w2")
+_SEEDS = {"right": (0.535, -0.093, 0.038, 0.166, 0.643, 1.960, -1.297),
+          "left": (-0.518, -0.026, -0.076, 0.175, -0.748, 1.641, -0.158)}
+
+
+class Baxter(manipulator.Manipulator):
+  """Two arms; actions: right arm's entries then left arm's (see control_modes)."""
+
+  DEFAULT_NAME = "baxter"
+  BASE_POS = (-0.6, 0.0, 0.06)
+  REACH = 0.95
+
+  def _build_body(self, name):
+    facts = robot_facts.load("baxter")
+    root = mjcf.RootElement(model=name)
+    root.compiler.angle = "radian"   # the fact sheets are in radians
+    elements = robot_facts.add_tree(root.worldbody, facts, skip=("base",),
+                                    root="fixed_base_link", pos=[0, 0, 0])
+    limits = robot_facts.actuator_limits(facts)
+    arms = []
+    for side, y in (("right", -1.0), ("left", 1.0)):
+      joints = [f"{side}_{s}" for s in _JOINT_SUFFIXES]
+      gripper = grippers.build(elements[f"{side}_hand"], grippers.RETHINK, prefix=f"{side}_")
+      arms.append(manipulator.Arm(
+          prefix=f"{side}_", joints=[root.find("joint", j) for j in joints],
+          torque_limits=np.array([limits[j][1] for j in joints]), gripper=gripper,
+          camera=root.find("camera", f"{side}_eye_in_hand"), seed=np.array(_SEEDS[side]),
+          home_tcp=np.array([0.6, 0.3 * y, 0.3]),
+          workspace=np.array([[0.1, min(-0.2 * y, 1.0 * y), -0.055],
+                              [1.1, max(-0.2 * y, 1.0 * y), 1.0]])))
+    return root, arms

@@ -1,0 +1,86 @@
+"""How a manipulator's [-1, 1] action slice becomes actuator controls, per control mode.
+
+Every mode's per-arm action ends with `gripper` (-1 open, +1 closed):
+
+- task_space: move_x, move_y, move_z (tool-centre-point displacement in the
+  world frame, `max_translation` m per control step at 1), rotate_x, rotate_y,
+  rotate_z (a world-frame axis-angle rotation, `max_rotation` rad per step at 1).
+- task_space_pose: x, y, z (absolute tool position mapped onto the robot's
+  workspace box), rot_x, rot_y, rot_z (axis-angle times pi applied to the home
+  tool orientation, gripper pointing down).
+- joint_position: one target per arm joint mapped onto the joint's range,
+  tracked by PD position actuators.
+- joint_torque: one torque per arm joint scaled to the joint's torque limit.
+
+Both task-space modes are solved once per control step by mink differential
+IK and tracked during the physics substeps by the joint position actuators.
+"""
+
+import numpy as np
+
+from ikea_suite import errors
+from ikea_suite import geometry
+
+TASK_SPACE = "task_space"
+TASK_SPACE_POSE = "task_space_pose"
+JOINT_POSITION = "joint_position"
+JOINT_TORQUE = "joint_torque"
+MODES = (TASK_SPACE, TASK_SPACE_POSE, JOINT_POSITION, JOINT_TORQUE)
+POSITION_ACTUATED = (TASK_SPACE, TASK_SPACE_POSE, JOINT_POSITION)
+
+
+def check(mode):
+  if mode not in MODES:
+    raise errors.UnknownNameError("control mode", mode, MODES)
+  return mode
+
+
+def arm_action_names(mode, joint_names):
+  """Names of one arm's action entries (without the arm's prefix)."""
+  if mode == TASK_SPACE:
+    names = ["move_x", "move_y", "move_z", "rotate_x", "rotate_y", "rotate_z"]
+  elif mode == TASK_SPACE_POSE:
+    names = ["x", "y", "z", "rot_x", "rot_y", "rot_z"]
+  elif mode == JOINT_POSITION:
+    names = [f"{j}_position" for j in joint_names]
+  else:
+    names = [f"{j}_torque" for j in joint_names]
+  return names + ["gripper"]
+
+
+class TaskSpaceTargets:
+  """Tool-centre-point targets (world frame) of every arm, updated from actions.
+
+  A delta target is kept at most `max_lag` metres from the measured tool so
+  that pushing against an obstacle cannot wind it up.
+  """
+
+  def __init__(self, num_arms, max_translation, max_rotation, workspace, max_lag=0.1):
+    self.pos = np.zeros((num_arms, 3))
+    self.rot = np.tile(np.eye(3), (num_arms, 1, 1))
+    self._max_translation, self._max_rotation = max_translation, max_rotation
+    self._workspace = np.asarray(workspace, dtype=float)   # (num_arms, 2, 3) world boxes
+    self._max_lag = max_lag
+
+  def reset(self, poses):
+    for i, (pos, rot) in enumerate(poses):
+      self.pos[i], self.rot[i] = pos, rot
+
+  def apply_delta(self, i, action, tcp_pos):
+    target = self.pos[i] + action[:3] * self._max_translation
+    lag = target - tcp_pos
+    distance = np.linalg.norm(lag)
+    if distance > self._max_lag:
+      target = tcp_pos + lag * (self._max_lag / distance)
+    self.pos[i] = np.clip(target, *self._workspace[i])
+    self.rot[i] = geometry.axis_angle_to_mat(action[3:6] * self._max_rotation) @ self.rot[i]
+
+  def apply_pose(self, i, action, home_rot):
+    low, high = self._workspace[i]
+    self.pos[i] = (low + high) / 2 + action[:3] * (high - low) / 2
+    self.rot[i] = geometry.axis_angle_to_mat(action[3:6] * np.pi) @ home_rot
+
+
+def joint_targets(action, low, high):
+  """Joint position targets: [-1, 1] onto [low, high]."""
+  return (low + high) / 2 + action * (high - low) / 2

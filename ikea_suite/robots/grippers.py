@@ -1,0 +1,89 @@
+"""Parallel grippers built from fact sheets: the Rethink electric gripper and the Franka hand.
+
+Each finger is a slide joint driven by a force-limited position actuator, so
+a closed gripper squeezes a part with at most the sheet's finger force and
+holds it by friction alone. The gripper action maps -1 to open, +1 to closed.
+"""
+
+import dataclasses
+
+import numpy as np
+
+from ikea_suite.robots import robot_facts
+
+# Finger pads grip with more friction than bare links (MuJoCo takes the larger of
+# the two geoms' coefficients) and resist twisting of a held part (condim 4).
+_PAD_FRICTION = (1.5, 0.02, 0.0001)
+_PAD_CONDIM = 4
+
+
+@dataclasses.dataclass(frozen=True)
+class GripperSpec:
+  facts: str
+  # finger joint -> (open value, closed value), in the sheet's joint coordinates
+  fingers: dict
+  tcp_site: str = "grip_site"
+  pad_bodies: tuple = ()
+  # Frame of the gripper root in the arm's hand body (w x y z); None: the sheet's own.
+  mount_quat: tuple = None
+
+
+RETHINK = GripperSpec(
+    facts="rethink_gripper",
+    fingers={"r_finger_joint": (-0.020833, 0.0115), "l_finger_joint": (0.020833, -0.0115)},
+    pad_bodies=("l_finger", "l_finger_tip", "r_finger", "r_finger_tip"))
+
+FRANKA_HAND = GripperSpec(
+    facts="panda_gripper",
+    fingers={"finger_joint1": (0.04, 0.0), "finger_joint2": (-0.04, 0.0)},
+    pad_bodies=("finger_joint1_tip", "finger_joint2_tip", "leftfinger", "rightfinger"))
+
+
+@dataclasses.dataclass
+class GripperParts:
+  """MJCF elements of one built gripper."""
+  joints: list
+  actuators: list
+  open_qpos: np.ndarray
+  closed_qpos: np.ndarray
+  tcp_site: object
+  root_body: object
+
+
+def build(hand_body, spec, prefix):
+  """Builds `spec` under the arm's hand body; names get `prefix`. Returns GripperParts."""
+  facts = robot_facts.load(spec.facts)
+  root = facts["bodies"][0]
+  elements = robot_facts.add_tree(hand_body, facts, name_prefix=prefix, pos=[0, 0, 0],
+                                  quat=spec.mount_quat or root.get("quat", [1, 0, 0, 0]))
+  for body_name in spec.pad_bodies:
+    for geom in elements[body_name].find_all("geom", immediate_children_only=True):
+      if geom.contype:
+        geom.friction, geom.condim = _PAD_FRICTION, _PAD_CONDIM
+  mjcf_root = hand_body.root
+  limits = {a["joint"]: a for a in facts["actuators"]}
+  joints, actuators = [], []
+  for joint_name in spec.fingers:
+    joint = mjcf_root.find("joint", prefix + joint_name)
+    sheet = limits[joint_name]
+    joints.append(joint)
+    actuators.append(mjcf_root.actuator.add(
+        "position", name=f"{prefix}{joint_name}_position", joint=joint, kp=float(sheet["kp"]),
+        ctrllimited=True, ctrlrange=joint.range, forcelimited=True,
+        forcerange=[float(x) for x in sheet["forcerange"].split()]))
+  values = np.array(list(spec.fingers.values()), dtype=float)
+  return GripperParts(joints=joints, actuators=actuators, open_qpos=values[:, 0],
+                      closed_qpos=values[:, 1],
+                      tcp_site=mjcf_root.find("site", prefix + spec.tcp_site),
+                      root_body=elements[root["name"]])
+
+
+def command(open_qpos, closed_qpos, action):
+  """Finger position targets for a gripper action in [-1, 1] (-1 open, +1 closed)."""
+  fraction = (np.clip(action, -1.0, 1.0) + 1.0) / 2.0
+  return open_qpos + fraction * (closed_qpos - open_qpos)
+
+
+def opening(open_qpos, closed_qpos, qpos):
+  """Opening in [0, 1]: 1 fully open, 0 fully closed (mean over fingers)."""
+  return float(np.mean(np.clip((qpos - closed_qpos) / (open_qpos - closed_qpos), 0.0, 1.0)))

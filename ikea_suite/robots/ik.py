@@ -1,0 +1,81 @@
+"""Differential inverse kinematics with mink on the robot's own compiled model.
+
+The robot's MJCF alone (base at the origin, no furniture) is compiled once,
+so each solve touches only the robot's joints. Targets are tool-centre-point
+poses in the robot base frame; one QP per call gives joint velocities that
+respect joint limits and per-joint velocity limits.
+"""
+
+import mink
+import mujoco
+import numpy as np
+from dm_control import mjcf
+
+# Regularizes the redundant (null-space) motion of 7-DoF arms towards home.
+_POSTURE_COST = 1e-2
+_DAMPING = 1e-3
+
+
+class DifferentialIK:
+  """One mink QP over all of a robot's joints, with a frame task per arm."""
+
+  def __init__(self, mjcf_model, tcp_sites, arm_joints, velocity_limit, solver="daqp"):
+    """`tcp_sites`: one site element per arm; `arm_joints`: joint elements velocity-limited."""
+    self._physics = mjcf.Physics.from_mjcf_model(mjcf_model)
+    model = self._physics.model._model
+    self.model = model
+    self.joints = [j for j in mjcf_model.find_all("joint") if j.tag == "joint"]
+    self.qpos_index = np.array(self._physics.bind(self.joints).qposadr)
+    self._configuration = mink.Configuration(model)
+    site_ids = self._physics.bind(tcp_sites).element_id
+    self._tasks = [mink.FrameTask(model.site(int(s)).name, "site", position_cost=1.0,
+                                  orientation_cost=0.5) for s in site_ids]
+    self._posture = mink.PostureTask(model, cost=_POSTURE_COST)
+    names = [model.joint(int(j)).name for j in self._physics.bind(arm_joints).element_id]
+    self._limits = [mink.ConfigurationLimit(model),
+                    mink.VelocityLimit(model, {n: velocity_limit for n in names})]
+    self._position_limit = [mink.ConfigurationLimit(model)]
+    self._solver = solver
+    self.arm_qpos_index = np.array(self._physics.bind(arm_joints).qposadr)
+
+  def set_posture(self, q):
+    self._posture.set_target(np.asarray(q, dtype=float))
+
+  def tcp_poses(self, q):
+    """Base-frame (position, rotation) of every arm's tool-centre point at joint vector q."""
+    self._configuration.update(q)
+    poses = []
+    for task in self._tasks:
+      transform = self._configuration.get_transform_frame_to_world(task.frame_name, "site")
+      poses.append((transform.translation(), transform.rotation().as_matrix()))
+    return poses
+
+  def step(self, q, targets, dt, velocity_limited=True):
+    """Joint vector after one IK step of length dt from q towards `targets` [(pos, rot)]."""
+    configuration = self._configuration
+    configuration.update(q)
+    for task, (pos, rot) in zip(self._tasks, targets):
+      task.set_target(mink.SE3.from_rotation_and_translation(mink.SO3.from_matrix(rot), pos))
+    limits = self._limits if velocity_limited else self._position_limit
+    # Limits are enforced on the step, so q must itself lie within them.
+    configuration.update(self.clip_to_limits(q))
+    velocity = mink.solve_ik(configuration, self._tasks + [self._posture], dt, self._solver,
+                             damping=_DAMPING, limits=limits)
+    return configuration.integrate(velocity, dt)
+
+  def clip_to_limits(self, q):
+    model = self.model
+    q = np.array(q, dtype=float)
+    limited = model.jnt_limited.astype(bool) & (model.jnt_type >= int(mujoco.mjtJoint.mjJNT_SLIDE))
+    adr = model.jnt_qposadr[limited]
+    q[adr] = np.clip(q[adr], model.jnt_range[limited, 0] + 1e-6, model.jnt_range[limited, 1] - 1e-6)
+    return q
+
+  def solve(self, q, targets, iterations=200, tolerance=1e-4):
+    """Converged IK (no velocity limit) from seed q: for home poses at build time."""
+    for _ in range(iterations):
+      q = self.step(q, targets, dt=0.1, velocity_limited=False)
+      errors = [np.linalg.norm(t.compute_error(self._configuration)) for t in self._tasks]
+      if max(errors) < tolerance:
+        break
+    return q

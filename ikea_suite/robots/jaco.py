@@ -1,0 +1,60 @@
+"""Kinova Jaco (6 DoF) with its three-finger hand, from dm_control.entities.manipulators.kinova.
+
+dm_control's velocity actuators are replaced by this suite's actuators for
+the chosen control mode; the three fingers close together under
+force-limited position actuators (gripper -1 open, +1 closed). Base on the
+floor at (-0.45, 0, 0), facing +x.
+"""
+
+import numpy as np
+from dm_control.entities.manipulators import kinova
+
+from ikea_suite.robots import grippers
+from ikea_suite.robots import manipulator
+
+JOINTS = tuple(f"joint_{i}" for i in range(1, 7))
+# Kinova's peak torques (as in dm_control's JacoArm): large and small actuators.
+_TORQUE_LIMITS = (30.5, 30.5, 30.5, 6.8, 6.8, 6.8)
+_SEED = (np.pi, 3.5, 1.6, -0.45, 1.5, 0.2)
+_FINGER_OPEN, _FINGER_CLOSED = 0.15, 1.35   # the hand's finger joint range
+_FINGER_KP, _FINGER_FORCE = 5.0, 2.0
+
+
+class Jaco(manipulator.Manipulator):
+  """One 6-DoF arm; actions: see control_modes (7 per arm in task space, 7 in joint modes)."""
+
+  DEFAULT_NAME = "jaco"
+  BASE_POS = (-0.45, 0.0, 0.0)
+  REACH = 0.75
+  KP_PER_NM = 30.0   # the Jaco's heavy joint armature needs stiffer position gains
+
+  def _build_body(self, name):
+    arm_entity, hand_entity = kinova.JacoArm(name=name), kinova.JacoHand()
+    for entity in (arm_entity, hand_entity):   # before attaching: frames have no gravcomp
+      for body in entity.mjcf_model.worldbody.find_all("body"):
+        body.gravcomp = 1.0
+    arm_entity.attach(hand_entity, arm_entity.wrist_site)
+    root = arm_entity.mjcf_model
+    for actuator in list(arm_entity.actuators) + list(hand_entity.actuators):
+      actuator.remove()
+    hand = hand_entity.mjcf_model
+    grip = hand_entity.grip_site
+    # The tool-centre point: at dm_control's grip site with z along the approach direction.
+    tcp = grip.parent.add("site", name="tcp", pos=grip.pos, quat=(0.0, 1.0, 0.0, 0.0),
+                          size=[0.005], group=4)
+    camera = grip.parent.add("camera", name="eye_in_hand", pos=(0.0, 0.07, -0.06),
+                             xyaxes=(1, 0, 0, 0, 0, 1), fovy=75)
+    actuators = [hand.actuator.add(
+        "position", name=f"{joint.name}_position", joint=joint, kp=_FINGER_KP, ctrllimited=True,
+        ctrlrange=(_FINGER_OPEN, _FINGER_CLOSED), forcelimited=True,
+        forcerange=(-_FINGER_FORCE, _FINGER_FORCE)) for joint in hand_entity.joints]
+    count = len(hand_entity.joints)
+    gripper = grippers.GripperParts(
+        joints=list(hand_entity.joints), actuators=actuators,
+        open_qpos=np.full(count, _FINGER_OPEN), closed_qpos=np.full(count, _FINGER_CLOSED),
+        tcp_site=tcp, root_body=grip.parent)
+    arm = manipulator.Arm(
+        prefix="", joints=list(arm_entity.joints), torque_limits=np.array(_TORQUE_LIMITS),
+        gripper=gripper, camera=camera, seed=np.array(_SEED), home_tcp=np.array([0.4, 0.0, 0.35]),
+        workspace=np.array([[0.1, -0.75, 0.005], [0.85, 0.75, 0.9]]))
+    return root, [arm]

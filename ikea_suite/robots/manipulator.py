@@ -1,0 +1,288 @@
+"""The common body of every arm robot: actuators per control mode, IK, observables, reset.
+
+A subclass builds its MJCF in `_build_body` and returns one `Arm` per arm.
+Everything else (action spec, control modes, wrist cameras, the part
+placement the robot can reach) is shared. Controls are computed once per
+control step in `apply_action`; MuJoCo's position actuators track them
+during the substeps, so no Python runs per physics substep.
+"""
+
+import dataclasses
+
+import numpy as np
+from dm_control import composer
+from dm_control.composer.observation import observable
+
+from ikea_suite import geometry
+from ikea_suite.robots import base
+from ikea_suite.robots import control_modes
+from ikea_suite.robots import grippers
+from ikea_suite.robots import ik
+from ikea_suite.robots import workspace
+
+_HOME_CACHE = {}
+
+
+def tool_down(rot):
+  """The rotation nearest `rot` whose z axis (the approach direction) points straight down."""
+  x = np.array([rot[0, 0], rot[1, 0], 0.0])
+  if np.linalg.norm(x) < 1e-6:
+    x = np.array([rot[0, 1], rot[1, 1], 0.0])
+  x /= np.linalg.norm(x)
+  return geometry.frame_from_axes(np.array([0.0, 0.0, -1.0]), x)
+
+
+@dataclasses.dataclass
+class Arm:
+  prefix: str                 # action-name prefix: "" or "right_" / "left_"
+  joints: list                # joint elements, base to wrist
+  torque_limits: np.ndarray   # N m per joint
+  gripper: grippers.GripperParts
+  camera: object              # wrist camera element
+  seed: np.ndarray            # joint angles near the home pose, refined by IK
+  home_tcp: np.ndarray        # home tool-centre point in the base frame
+  workspace: np.ndarray       # (2, 3) box in the base frame the tool is kept in
+
+
+class Manipulator(base.Robot):
+  """An arm robot on a fixed base; see control_modes for the action of each mode."""
+
+  DEFAULT_NAME = "manipulator"
+  BASE_POS = (-0.55, 0.0, 0.0)   # world position of the base, facing +x
+  REACH = 0.85                   # metres from the base where parts are placed
+  KP_PER_NM = 10.0               # position gain per N m of torque limit
+  VELOCITY_LIMIT = 2.0           # rad/s per joint in the IK
+
+  def _build(self, name=None, control_mode="task_space", max_translation=0.025,
+             max_rotation=0.15, base_pos=None, base_yaw=0.0, wrist_camera=False,
+             camera_size=(84, 84)):
+    self._mode = control_modes.check(control_mode)
+    self._base_pos = np.array(self.BASE_POS if base_pos is None else base_pos, dtype=float)
+    self._base_rot = geometry.rot_z(base_yaw)
+    self._mjcf_root, self._arms = self._build_body(name or self.DEFAULT_NAME)
+    for arm in self._arms:
+      self._add_arm_actuators(arm)
+    tcp_sites = [arm.gripper.tcp_site for arm in self._arms]
+    arm_joints = [j for arm in self._arms for j in arm.joints]
+    self._ik = ik.DifferentialIK(self._mjcf_root, tcp_sites, arm_joints, self.VELOCITY_LIMIT)
+    self._home_q = self._home_configuration()
+    self._ik.set_posture(self._home_q)
+    self._home_rot = [rot for _, rot in self._ik.tcp_poses(self._home_q)]
+    boxes = [self._box_to_world(arm.workspace) for arm in self._arms]
+    self._targets = control_modes.TaskSpaceTargets(len(self._arms), max_translation,
+                                                    max_rotation, boxes)
+    self._wrist_camera, self._camera_size = bool(wrist_camera), tuple(camera_size)
+    self._dt = 0.05
+
+  def _build_body(self, name):
+    """Returns (mjcf root, [Arm]) of the robot without arm actuators."""
+    raise NotImplementedError
+
+  def _add_arm_actuators(self, arm):
+    actuators = []
+    for joint, limit in zip(arm.joints, arm.torque_limits):
+      if self._mode in control_modes.POSITION_ACTUATED:
+        kwargs = dict(kp=self.KP_PER_NM * limit, dampratio=1.0, forcelimited=True,
+                      forcerange=(-limit, limit))
+        if joint.range is not None:
+          kwargs.update(ctrllimited=True, ctrlrange=joint.range)
+        actuators.append(self._mjcf_root.actuator.add(
+            "position", name=f"{joint.name}_position", joint=joint, **kwargs))
+      else:
+        actuators.append(self._mjcf_root.actuator.add(
+            "motor", name=f"{joint.name}_torque", joint=joint, ctrllimited=True,
+            ctrlrange=(-limit, limit)))
+    arm.actuators = actuators
+
+  def _home_configuration(self):
+    key = (type(self).__name__, self._mjcf_root.model)
+    if key not in _HOME_CACHE:
+      q = np.zeros(self._ik.model.nq)
+      for arm in self._arms:
+        index = np.array([list(self._ik.joints).index(j) for j in arm.joints])
+        q[self._ik.qpos_index[index]] = arm.seed
+        for joint, value in zip(arm.gripper.joints, arm.gripper.open_qpos):
+          q[self._ik.qpos_index[list(self._ik.joints).index(joint)]] = value
+      self._ik.set_posture(q)
+      # Home: tool pointing down at home_tcp, wrist turned as in the seed pose.
+      targets = [(arm.home_tcp, tool_down(rot))
+                 for arm, (_, rot) in zip(self._arms, self._ik.tcp_poses(q))]
+      _HOME_CACHE[key] = self._ik.solve(self._ik.clip_to_limits(q), targets)
+    return _HOME_CACHE[key].copy()
+
+  def _box_to_world(self, box):
+    corners = np.array([[x, y, z] for x in box[:, 0] for y in box[:, 1] for z in box[:, 2]])
+    world = corners @ self._base_rot.T + self._base_pos
+    return np.stack([world.min(0), world.max(0)])
+
+  # -- robot interface -----------------------------------------------------------
+
+  @property
+  def mjcf_model(self):
+    return self._mjcf_root
+
+  @property
+  def control_mode(self):
+    return self._mode
+
+  @property
+  def num_arms(self):
+    return len(self._arms)
+
+  @property
+  def arms(self):
+    return list(self._arms)
+
+  @property
+  def base_pose(self):
+    """World position and rotation of the robot base."""
+    return self._base_pos.copy(), self._base_rot.copy()
+
+  @property
+  def action_names(self):
+    return [arm.prefix + n for arm in self._arms
+            for n in control_modes.arm_action_names(self._mode, [j.name for j in arm.joints])]
+
+  @property
+  def actions_per_arm(self):
+    return len(self._arms[0].joints) + 1 if self._mode in (
+        control_modes.JOINT_POSITION, control_modes.JOINT_TORQUE) else 7
+
+  def mount(self, arena):
+    frame = arena.attach(self)
+    frame.pos = self._base_pos
+    frame.quat = geometry.mat_to_quat(self._base_rot)
+    return frame
+
+  def part_initializer(self, furniture, scattered=None):
+    """The task's part placement for this robot: parts within reach (see workspace.py).
+
+    The Assembly task calls this with the placement it would otherwise use
+    (`scattered`), which an arm replaces: a ring around the origin is out of reach.
+    """
+    del scattered
+    return workspace.ReachableParts(furniture, self._base_pos[:2], self._base_rot, self.REACH)
+
+  def bind_scene(self, arena, furniture, assembly, control_timestep):
+    self._dt = control_timestep
+
+  def _build_observables(self):
+    return ManipulatorObservables(self)
+
+  def after_compile(self, physics, random_state):
+    bind = physics.bind
+    self._ik_to_qpos = np.array(bind(self._ik.joints).qposadr)
+    self._ik_to_dof = np.array(bind(self._ik.joints).dofadr)
+    self._arm_qpos = np.array([bind(a.joints).qposadr for a in self._arms])
+    self._arm_dof = np.array([bind(a.joints).dofadr for a in self._arms])
+    self._arm_ik = np.array([[list(self._ik.joints).index(j) for j in a.joints] for a in self._arms])
+    self._arm_act = np.array([bind(a.actuators).element_id for a in self._arms])
+    self._finger_qpos = np.array([bind(a.gripper.joints).qposadr for a in self._arms])
+    self._finger_act = np.array([bind(a.gripper.actuators).element_id for a in self._arms])
+    self._tcp_ids = np.array(bind([a.gripper.tcp_site for a in self._arms]).element_id)
+    ranges = np.array([bind(a.joints).range for a in self._arms])            # (arms, joints, 2)
+    limited = np.array([bind(a.joints).limited for a in self._arms]).astype(bool)
+    self._joint_low = np.where(limited, ranges[..., 0], -np.pi)
+    self._joint_high = np.where(limited, ranges[..., 1], np.pi)
+
+  def home_tcp_poses(self):
+    """World poses of every tool-centre point at the home configuration."""
+    return [(self._base_rot @ p + self._base_pos, self._base_rot @ r)
+            for p, r in self._ik.tcp_poses(self._home_q)]
+
+  def initialize_episode(self, physics, random_state):
+    data = physics.data
+    data.qpos[self._ik_to_qpos] = self._home_q
+    data.qvel[self._ik_to_dof] = 0.0
+    for i, arm in enumerate(self._arms):
+      home = self._home_q[self._ik.qpos_index[self._arm_ik[i]]]
+      data.ctrl[self._arm_act[i]] = 0.0 if self._mode == control_modes.JOINT_TORQUE else home
+      data.ctrl[self._finger_act[i]] = arm.gripper.open_qpos
+    self._targets.reset(self.home_tcp_poses())
+
+  # -- acting ----------------------------------------------------------------------
+
+  def apply_action(self, physics, action, random_state):
+    action = np.asarray(action).reshape(len(self._arms), -1)
+    data = physics.data
+    if self._mode in (control_modes.TASK_SPACE, control_modes.TASK_SPACE_POSE):
+      self._track_task_space(physics, action)
+    for i, arm in enumerate(self._arms):
+      if self._mode == control_modes.JOINT_POSITION:
+        data.ctrl[self._arm_act[i]] = control_modes.joint_targets(
+            action[i, :-1], self._joint_low[i], self._joint_high[i])
+      elif self._mode == control_modes.JOINT_TORQUE:
+        data.ctrl[self._arm_act[i]] = action[i, :-1] * arm.torque_limits
+      data.ctrl[self._finger_act[i]] = grippers.command(
+          arm.gripper.open_qpos, arm.gripper.closed_qpos, action[i, -1])
+
+  def _track_task_space(self, physics, action):
+    data = physics.data
+    for i in range(len(self._arms)):
+      if self._mode == control_modes.TASK_SPACE:
+        self._targets.apply_delta(i, action[i], data.site_xpos[self._tcp_ids[i]])
+      else:
+        self._targets.apply_pose(i, action[i], self._base_rot @ self._home_rot[i])
+    rot_t = self._base_rot.T
+    targets = [(rot_t @ (p - self._base_pos), rot_t @ r)
+               for p, r in zip(self._targets.pos, self._targets.rot)]
+    q = self._ik.step(data.qpos[self._ik_to_qpos], targets, self._dt)
+    for i in range(len(self._arms)):
+      data.ctrl[self._arm_act[i]] = q[self._ik.qpos_index[self._arm_ik[i]]]
+
+  # -- state readers ---------------------------------------------------------------
+
+  def tcp_pose(self, physics, arm=0):
+    """World position and rotation matrix of an arm's tool-centre point."""
+    site = self._tcp_ids[arm]
+    return physics.data.site_xpos[site].copy(), physics.data.site_xmat[site].reshape(3, 3).copy()
+
+  def task_space_target(self, arm=0):
+    return self._targets.pos[arm].copy(), self._targets.rot[arm].copy()
+
+  def gripper_opening(self, physics, arm=0):
+    gripper = self._arms[arm].gripper
+    return grippers.opening(gripper.open_qpos, gripper.closed_qpos,
+                            physics.data.qpos[self._finger_qpos[arm]])
+
+  def joint_positions(self, physics):
+    return physics.data.qpos[self._arm_qpos].ravel().copy()
+
+  def joint_velocities(self, physics):
+    return physics.data.qvel[self._arm_dof].ravel().copy()
+
+
+class ManipulatorObservables(composer.Observables):
+  """Arm joint positions and velocities, tool poses, gripper openings; wrist cameras on request."""
+
+  def __init__(self, entity):
+    super().__init__(entity)
+    if entity._wrist_camera:
+      height, width = entity._camera_size
+      for arm in entity.arms:
+        self.add_observable(f"{arm.prefix}wrist_camera",
+                            observable.MJCFCamera(arm.camera, height=height, width=width))
+
+  @composer.observable
+  def joint_positions(self):
+    return observable.Generic(self._entity.joint_positions)
+
+  @composer.observable
+  def joint_velocities(self):
+    return observable.Generic(self._entity.joint_velocities)
+
+  @composer.observable
+  def tcp_positions(self):
+    return observable.Generic(lambda physics: np.stack(
+        [self._entity.tcp_pose(physics, i)[0] for i in range(self._entity.num_arms)]))
+
+  @composer.observable
+  def tcp_quaternions(self):
+    return observable.Generic(lambda physics: np.stack(
+        [geometry.mat_to_quat(self._entity.tcp_pose(physics, i)[1])
+         for i in range(self._entity.num_arms)]))
+
+  @composer.observable
+  def gripper_opening(self):
+    return observable.Generic(lambda physics: np.array(
+        [self._entity.gripper_opening(physics, i) for i in range(self._entity.num_arms)]))

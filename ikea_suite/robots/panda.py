@@ -1,0 +1,39 @@
+"""Franka Emika Panda (7 DoF) with the Franka hand, built from fact sheets.
+
+Base on the floor at (-0.5, 0, 0), facing +x. White links, dark joints. The
+sheet has no collision primitives for the links, so each link collides as
+the box bounding its visual mesh.
+"""
+
+import numpy as np
+from dm_control import mjcf
+
+from ikea_suite.robots import grippers
+from ikea_suite.robots import manipulator
+from ikea_suite.robots import robot_facts
+
+JOINTS = tuple(f"joint{i}" for i in range(1, 8))
+_SEED = (0.0, np.pi / 16, 0.0, -np.pi / 2 - np.pi / 3, 0.0, np.pi - 0.2, np.pi / 4)
+
+
+class Panda(manipulator.Manipulator):
+  """One 7-DoF arm; actions: see control_modes."""
+
+  DEFAULT_NAME = "panda"
+  BASE_POS = (-0.5, 0.0, 0.0)
+  REACH = 0.75
+
+  def _build_body(self, name):
+    facts = robot_facts.load("panda")
+    root = mjcf.RootElement(model=name)
+    root.compiler.angle = "radian"   # the fact sheets are in radians
+    elements = robot_facts.add_tree(root.worldbody, facts, skip=("base",), root="link0")
+    gripper = grippers.build(elements["right_hand"], grippers.FRANKA_HAND, prefix="right_")
+    limits = robot_facts.actuator_limits(facts)
+    arm = manipulator.Arm(
+        prefix="", joints=[root.find("joint", j) for j in JOINTS],
+        torque_limits=np.array([limits[j][1] for j in JOINTS]), gripper=gripper,
+        camera=root.find("camera", "eye_in_hand"), seed=np.array(_SEED),
+        home_tcp=np.array([0.45, 0.0, 0.35]),
+        workspace=np.array([[0.1, -0.75, 0.005], [0.9, 0.75, 0.9]]))
+    return root, [arm]

@@ -1,0 +1,133 @@
+"""Reads the robot fact sheets (robots/facts/*.json) and writes MJCF bodies from them.
+
+A fact sheet lists bodies in tree order with their frame in the parent,
+inertial, joints, collision primitives and the bounds of each visual piece.
+We turn that into MJCF with simple shapes: collision primitives as given
+(hidden, group 3) and one box per sizeable visual piece (coloured, no contact).
+"""
+
+import functools
+import json
+import pathlib
+
+import numpy as np
+
+from ikea_suite import errors
+
+FACTS_DIR = pathlib.Path(__file__).parent / "facts"
+COLLISION_GROUP = 3
+VISUAL_GROUP = 1
+# Visual pieces smaller than this (largest extent, m) are screws and logos: skipped.
+_MIN_VISUAL_EXTENT = 0.03
+_MAX_VISUALS_PER_BODY = 4
+
+
+@functools.lru_cache(maxsize=None)
+def load(name):
+  path = FACTS_DIR / f"{name}.json"
+  if not path.exists():
+    valid = [p.stem for p in FACTS_DIR.glob("*.json")]
+    raise errors.UnknownNameError("robot fact sheet", name, valid)
+  return json.loads(path.read_text())
+
+
+def bodies_by_name(facts):
+  return {b["name"]: b for b in facts["bodies"]}
+
+
+def actuator_limits(facts):
+  """Joint name -> (low, high) of the sheet's motor or position control range."""
+  return {a["joint"]: tuple(float(x) for x in a["ctrlrange"].split()) for a in facts["actuators"]}
+
+
+def _float(value, default=0.0):
+  return default if value is None else float(value)
+
+
+def _visual_boxes(body):
+  """The largest coloured visual pieces as (centre, half size, rgba)."""
+  pieces = []
+  for piece in body.get("visual_mesh_bounds", []):
+    if piece.get("rgba") is None:
+      continue  # the uncoloured entry is the whole-link collision mesh, not a visual piece
+    lo, hi = (np.asarray(b, dtype=float) for b in piece["bounds_in_body"])
+    extent = hi - lo
+    if extent.max() < _MIN_VISUAL_EXTENT:
+      continue
+    pieces.append(((lo + hi) / 2, np.maximum(extent / 2, 0.002), piece["rgba"]))
+  pieces.sort(key=lambda p: -np.prod(p[1]))
+  return pieces[:_MAX_VISUALS_PER_BODY]
+
+
+def _bounding_box_geoms(body):
+  """A box around the whole-link mesh (the uncoloured entry) when the sheet lists no primitive."""
+  for piece in body.get("visual_mesh_bounds", []):
+    if piece.get("rgba") is None:
+      lo, hi = (np.asarray(b, dtype=float) for b in piece["bounds_in_body"])
+      return [{"type": "box", "size": list(np.maximum((hi - lo) / 2, 1e-3)),
+               "pos": list((lo + hi) / 2)}]
+  return []
+
+
+def add_body(parent, body, name_prefix="", pos=None, quat=None, gravcomp=1.0):
+  """Adds one fact-sheet body under MJCF element `parent`; returns the new body element.
+
+  Geoms never contribute inertia (density 0): the sheet's inertial is the mass.
+  """
+  element = parent.add("body", name=name_prefix + body["name"],
+                       pos=body["pos"] if pos is None else pos,
+                       quat=body.get("quat", [1, 0, 0, 0]) if quat is None else quat,
+                       gravcomp=gravcomp)
+  inertial = body.get("inertial") or {}
+  if inertial.get("mass"):
+    element.add("inertial", mass=inertial["mass"], pos=inertial.get("pos", [0, 0, 0]),
+                quat=inertial.get("quat", [1, 0, 0, 0]),
+                diaginertia=np.maximum(inertial.get("diaginertia", [1e-6] * 3), 1e-8))
+  for joint in body.get("joints", []):
+    element.add("joint", name=name_prefix + joint["name"], type=joint.get("type", "hinge"),
+                axis=joint["axis"], pos=joint.get("pos", [0, 0, 0]), range=joint["range"],
+                limited=True, damping=_float(joint.get("damping")),
+                armature=_float(joint.get("armature"), 0.01),
+                frictionloss=_float(joint.get("frictionloss")))
+  for k, geom in enumerate(body.get("collision_geoms") or _bounding_box_geoms(body)):
+    kwargs = dict(type=geom.get("type", "sphere"), size=geom["size"], density=0,
+                  group=COLLISION_GROUP, rgba=(0.5, 0.5, 0.5, 0.3), contype=1, conaffinity=0)
+    if "fromto" in geom:
+      kwargs["fromto"] = geom["fromto"]
+    else:
+      kwargs["pos"] = geom.get("pos", [0, 0, 0])
+      if "quat" in geom:
+        kwargs["quat"] = geom["quat"]
+    element.add("geom", name=f"{name_prefix}{body['name']}_col{k}", **kwargs)
+  for k, (centre, half, rgba) in enumerate(_visual_boxes(body)):
+    element.add("geom", name=f"{name_prefix}{body['name']}_vis{k}", type="box", pos=centre,
+                size=half, rgba=rgba, density=0, contype=0, conaffinity=0, group=VISUAL_GROUP)
+  for site in body.get("sites", []):
+    element.add("site", name=name_prefix + site["name"], pos=site.get("pos", [0, 0, 0]),
+                quat=site.get("quat", [1, 0, 0, 0]), size=[site["size"][0]], group=4,
+                rgba=(0.9, 0.9, 0.1, 0.5))
+  for camera in body.get("cameras", []):
+    element.add("camera", name=name_prefix + camera["name"], pos=camera["pos"],
+                quat=camera["quat"], fovy=_float(camera.get("fovy"), 60.0))
+  return element
+
+
+def add_tree(parent, facts, root=None, name_prefix="", skip=(), gravcomp=1.0, pos=None,
+             quat=None):
+  """Adds the subtree of `root` (default: the sheet's root) under `parent`.
+
+  `skip` names bodies left out with their subtrees. `pos` and `quat`
+  override the root body's own frame. Returns {fact body name: element}.
+  """
+  bodies = facts["bodies"]
+  root = root or bodies[0]["name"]
+  elements = {}
+  for body in bodies:
+    name = body["name"]
+    if name in skip or (name != root and body["parent"] not in elements):
+      continue
+    if name == root:
+      elements[name] = add_body(parent, body, name_prefix, pos=pos, quat=quat, gravcomp=gravcomp)
+    else:
+      elements[name] = add_body(elements[body["parent"]], body, name_prefix, gravcomp=gravcomp)
+  return elements

@@ -1,0 +1,131 @@
+"""Arm robots: build, action specs per control mode, observables, control tracking."""
+
+import numpy as np
+import pytest
+
+import ikea_suite
+from ikea_suite.robots import control_modes
+
+ARMS = ("sawyer", "baxter", "panda", "jaco")
+JOINT_COUNT = {"sawyer": 7, "baxter": 7, "panda": 7, "jaco": 6}
+
+
+@pytest.mark.parametrize("robot", ARMS)
+@pytest.mark.parametrize("mode", control_modes.MODES)
+def test_action_spec_per_mode(robot, mode):
+  env = ikea_suite.load("table_four_leg_lack", robot, seed=0, control_mode=mode)
+  names = env.action_spec().name.split("\t")
+  arms = 2 if robot == "baxter" else 1
+  per_arm = 7 if mode.startswith("task_space") else JOINT_COUNT[robot] + 1
+  assert len(names) == arms * per_arm + 1
+  assert names[-1] == "connect" and names.count("connect") == 1
+  if robot == "baxter":
+    assert names[0].startswith("right_") and names[per_arm].startswith("left_")
+  env.reset()
+  action = np.zeros(len(names))
+  action[[i for i, n in enumerate(names) if n.endswith("gripper")]] = -1.0   # keep open
+  for _ in range(3):
+    timestep = env.step(action)
+  prefix = env.task.robot.mjcf_model.model
+  positions = timestep.observation[f"{prefix}/joint_positions"]
+  assert positions.shape == (arms * JOINT_COUNT[robot],) and np.all(np.isfinite(positions))
+  assert timestep.observation[f"{prefix}/tcp_positions"].shape == (arms, 3)
+  assert timestep.observation[f"{prefix}/tcp_quaternions"].shape == (arms, 4)
+  opening = timestep.observation[f"{prefix}/gripper_opening"]
+  assert opening.shape == (arms,) and np.all(opening > 0.9)   # grippers start open
+
+
+def test_unknown_control_mode_lists_valid_ones():
+  with pytest.raises(ikea_suite.UnknownNameError, match="joint_torque"):
+    ikea_suite.load("table_four_leg_lack", "sawyer", control_mode="impedance")
+
+
+@pytest.mark.parametrize("robot", ARMS)
+def test_home_pose_points_tool_down_within_reach_of_parts(robot):
+  env = ikea_suite.load("table_four_leg_lack", robot, seed=1)
+  env.reset()
+  arm = env.task.robot
+  base_pos, _ = arm.base_pose
+  for i in range(arm.num_arms):
+    pos, rot = arm.tcp_pose(env.physics, i)
+    assert rot[2, 2] < -0.99, "tool should point down at home"
+    assert 0.2 < pos[2] < 0.5
+  parts, _ = env.task.furniture.part_poses(env.physics)
+  distance = np.linalg.norm(parts[:, :2] - base_pos[:2], axis=1)
+  assert np.all(distance < arm.REACH + 0.01)
+
+
+@pytest.mark.parametrize("robot", ("sawyer", "jaco", "baxter"))
+def test_task_space_delta_moves_tool(robot):
+  env = ikea_suite.load("table_four_leg_lack", robot, seed=0)
+  env.reset()
+  arm = env.task.robot
+  start = arm.tcp_pose(env.physics, 0)
+  action = np.zeros(env.action_spec().shape)
+  action[2] = 1.0   # move_z on the first arm
+  for _ in range(4):   # 4 x 2.5 cm target steps
+    env.step(action)
+  action[:] = 0.0
+  for _ in range(30):
+    env.step(action)
+  pos, rot = arm.tcp_pose(env.physics, 0)
+  np.testing.assert_allclose(pos - start[0], [0.0, 0.0, 0.10], atol=0.01)
+  np.testing.assert_allclose(pos, arm.task_space_target(0)[0], atol=0.005)
+  assert np.trace(rot.T @ start[1]) > 3 - 0.01   # orientation held
+
+
+def test_task_space_rotation_turns_tool_about_world_z():
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=0)
+  env.reset()
+  arm = env.task.robot
+  _, start = arm.tcp_pose(env.physics)
+  action = np.zeros(env.action_spec().shape)
+  action[5] = 1.0
+  for _ in range(4):   # 4 x 0.15 rad
+    env.step(action)
+  action[5] = 0.0
+  for _ in range(20):
+    env.step(action)
+  _, rot = arm.tcp_pose(env.physics)
+  turn = rot @ start.T
+  assert abs(np.arctan2(turn[1, 0], turn[0, 0]) - 0.6) < 0.03
+
+
+def test_task_space_pose_reaches_absolute_target():
+  env = ikea_suite.load("table_four_leg_lack", "panda", seed=0, control_mode="task_space_pose")
+  env.reset()
+  arm = env.task.robot
+  action = np.zeros(env.action_spec().shape)
+  action[:3] = [0.2, -0.3, -0.2]
+  for _ in range(40):
+    env.step(action)
+  target, _ = arm.task_space_target()
+  pos, rot = arm.tcp_pose(env.physics)
+  np.testing.assert_allclose(pos, target, atol=0.01)
+  assert rot[2, 2] < -0.99
+
+
+def test_joint_position_mode_tracks_targets():
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=0, control_mode="joint_position")
+  env.reset()
+  action = np.zeros(env.action_spec().shape)
+  action[:7] = [0.1, -0.3, 0.0, 0.5, 0.0, 0.3, 0.0]
+  for _ in range(40):
+    timestep = env.step(action)
+  arm = env.task.robot
+  low, high = arm._joint_low[0], arm._joint_high[0]
+  expected = (low + high) / 2 + action[:7] * (high - low) / 2
+  np.testing.assert_allclose(timestep.observation["sawyer/joint_positions"], expected, atol=0.02)
+
+
+def test_joint_torque_mode_moves_joint_in_torque_direction():
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=0, control_mode="joint_torque")
+  env.reset()
+  start = env.task.robot.joint_positions(env.physics)
+  action = np.zeros(env.action_spec().shape)
+  action[0] = 0.2   # base joint: turns about the vertical, no gravity load
+  for _ in range(5):
+    env.step(action)
+  moved = env.task.robot.joint_positions(env.physics) - start
+  assert moved[0] > 0.05
+
