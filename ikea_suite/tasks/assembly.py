@@ -167,6 +167,7 @@ class Assembly(composer.Task):
 
   def connect_in_place(self, physics, pair):
     """Connects connector pair `pair` whose parts already sit in their mating pose."""
+    physics.forward()   # part poses are read from xpos/xmat, stale after an initializer
     self._join(physics, int(pair), self.alignment(physics).twist[pair])
 
   def _join(self, physics, pair, twist):
