@@ -1,0 +1,195 @@
+"""Image observables: RGB, depth, part segmentation, boxes and the goal image."""
+
+import functools
+
+import numpy as np
+import pytest
+from dm_control import mjcf
+
+import ikea_suite
+from ikea_suite import errors
+from ikea_suite.arenas import floor
+from ikea_suite.environment import Environment
+from ikea_suite.props import catalog
+from ikea_suite.props import furniture as furniture_lib
+from ikea_suite.robots import cursor
+from ikea_suite.tasks import assembly
+from ikea_suite.tasks import camera_observables
+from ikea_suite.tasks import cameras
+from ikea_suite.tasks import randomization
+
+SIZE = 32
+ALL_OUTPUTS = ("rgb", "depth", "segmentation", "part_boxes")
+
+
+@functools.lru_cache(maxsize=None)
+def _gl_problem():
+  """None when an offscreen GL context can render, else the reason it cannot."""
+  try:
+    physics = mjcf.Physics.from_xml_string("<mujoco><worldbody/></mujoco>")
+    physics.render(8, 8)
+    return None
+  except Exception as error:  # pylint: disable=broad-except
+    return f"no OpenGL rendering (set MUJOCO_GL=egl with Mesa or a GPU): {error}"
+
+
+@pytest.fixture
+def gl():
+  if _gl_problem():
+    pytest.skip(_gl_problem())
+
+
+def _load(**options):
+  options.setdefault("image_size", SIZE)
+  return ikea_suite.load(ikea_suite.DEFAULT_FURNITURE, "cursor", seed=0, **options)
+
+
+def test_cameras_are_off_by_default():
+  env = _load()
+  env.reset()
+  assert not any(key.startswith("cameras/") for key in env.observation_spec())
+  assert not any(entity.mjcf_model.model == "cameras"
+                 for entity in env.task.arena.iter_entities())
+
+
+def test_every_output_is_a_spec_valid_observable(gl):
+  env = _load(cameras=("front", "top"), camera_outputs=ALL_OUTPUTS, image_size=(24, 40),
+              goal_image=True)
+  spec = env.observation_spec()
+  timestep = env.reset()
+  for _ in range(2):
+    for name in ("front", "top"):
+      for kind in ("rgb", "depth", "segmentation"):
+        for key in (f"cameras/{name}_{kind}", f"cameras/{name}_goal_{kind}"):
+          spec[key].validate(timestep.observation[key])
+      spec[f"cameras/{name}_part_boxes"].validate(timestep.observation[f"cameras/{name}_part_boxes"])
+    timestep = env.step(np.zeros(env.action_spec().shape))
+  observation = timestep.observation
+  assert observation["cameras/front_rgb"].shape == (24, 40, 3)
+  assert observation["cameras/front_rgb"].dtype == np.uint8
+  assert observation["cameras/front_depth"].shape == (24, 40)
+  assert observation["cameras/front_segmentation"].dtype == np.int32
+  assert observation["cameras/front_part_boxes"].shape == (len(env.task.furniture.parts), 4)
+
+
+def test_segmentation_ids_follow_the_documented_convention(gl):
+  env = _load(cameras=("top", "front"), camera_outputs=("segmentation",), image_size=64)
+  observation = env.reset().observation
+  num_parts = len(env.task.furniture.parts)
+  seen = set()
+  for name in ("top", "front"):
+    labels = np.unique(observation[f"cameras/{name}_segmentation"])
+    assert set(labels) <= {cameras.BACKGROUND_ID, cameras.FLOOR_ID, cameras.ROBOT_ID,
+                           *range(num_parts)}
+    seen |= set(labels)
+  assert cameras.FLOOR_ID in seen and cameras.BACKGROUND_ID in seen
+  assert cameras.ROBOT_ID in seen   # the cursors float in view
+  assert len(seen & set(range(num_parts))) >= 3
+
+
+def test_part_pixels_lie_inside_their_boxes(gl):
+  env = _load(cameras=("front",), camera_outputs=("segmentation", "part_boxes"), image_size=64)
+  observation = env.reset().observation
+  segmentation = observation["cameras/front_segmentation"]
+  boxes = observation["cameras/front_part_boxes"]
+  checked = 0
+  for part, box in enumerate(boxes):
+    rows, columns = np.nonzero(segmentation == part)
+    if not len(rows):
+      continue
+    checked += 1
+    assert box[0] - 1 <= columns.min() and columns.max() <= box[2] + 1
+    assert box[1] - 1 <= rows.min() and rows.max() <= box[3] + 1
+    # Unoccluded parts lying flat fill most of their box's extent.
+    assert columns.max() - columns.min() >= 0.5 * (box[2] - box[0]) - 2
+  assert checked >= 3
+
+
+def test_depth_is_in_metres(gl):
+  env = _load(cameras=("top",), camera_outputs=("depth", "segmentation"), image_size=33)
+  observation = env.reset().observation
+  depth, labels = observation["cameras/top_depth"], observation["cameras/top_segmentation"]
+  height = floor.CAMERAS["top"][0][2]
+  assert labels[16, 16] == cameras.FLOOR_ID   # the centre is clear of parts
+  assert depth[16, 16] == pytest.approx(height, rel=0.01)
+  floor_depth = depth[labels == cameras.FLOOR_ID]
+  assert floor_depth.min() >= height * 0.99
+  # A part lying on the floor is nearer than the floor.
+  assert depth[labels >= 0].max() < floor_depth.max()
+
+
+def test_each_camera_renders_once_per_control_step(gl, monkeypatch):
+  calls = []
+  original = cameras.MultiKindCamera.render_kinds
+
+  def counting(self, kinds):
+    calls.append(tuple(kinds))
+    return original(self, kinds)
+
+  monkeypatch.setattr(cameras.MultiKindCamera, "render_kinds", counting)
+  env = _load(cameras=("front", "side"), camera_outputs=ALL_OUTPUTS)
+  env.reset()
+  calls.clear()
+  for _ in range(3):
+    env.step(np.zeros(env.action_spec().shape))
+  assert len(calls) == 3 * 2
+  assert all(kinds == ("rgb", "depth", "segmentation") for kinds in calls)
+
+
+def test_goal_image_shows_the_assembled_furniture_and_leaves_physics_alone(gl):
+  action = np.zeros(15)
+  action[[0, 1, 9]] = (0.5, -0.3, 0.4)
+  trajectories = []
+  for options in ({}, dict(cameras=("front",), camera_outputs=("rgb", "segmentation"),
+                           goal_image=True)):
+    env = _load(**options)
+    timestep = env.reset()
+    first = timestep.observation
+    for _ in range(5):
+      timestep = env.step(action)
+    trajectories.append(env.physics.data.qpos.copy())
+  np.testing.assert_array_equal(*trajectories)
+  goal = first["cameras/front_goal_segmentation"]
+  np.testing.assert_array_equal(goal, timestep.observation["cameras/front_goal_segmentation"])
+  goal_parts = set(np.unique(goal)) & set(range(len(env.task.furniture.parts)))
+  assert len(goal_parts) >= 3   # the top and at least two legs, assembled at the origin
+  assert not np.array_equal(first["cameras/front_goal_rgb"], first["cameras/front_rgb"])
+  centre = goal[8:24, 8:24]
+  assert (centre >= 0).mean() > (first["cameras/front_segmentation"][8:24, 8:24] >= 0).mean()
+
+
+def test_bad_camera_options_name_the_valid_choices():
+  with pytest.raises(errors.UnknownNameError, match="front, side, top"):
+    _load(cameras=("back",))
+  with pytest.raises(errors.UnknownNameError, match="part_boxes"):
+    _load(cameras=("front",), camera_outputs=("normals",))
+  for size in (0, (32,), (32, 32.5), "big"):
+    with pytest.raises(randomization.OptionValueError, match="image_size"):
+      _load(cameras=("front",), image_size=size)
+
+
+class _CursorWithCamera(cursor.Cursor):
+  """A robot that contributes a named camera, as wrist cameras will."""
+
+  def _build(self, **kwargs):
+    super()._build(**kwargs)
+    body = self.mjcf_model.find("body", "cursor0")
+    self._camera = body.add("camera", name="eye", pos=(0, 0, 0.05), quat=(0, 1, 0, 0))
+
+  @property
+  def cameras(self):
+    return {"cursor_eye": self._camera}
+
+
+def test_a_robot_can_contribute_named_cameras(gl):
+  arena = floor.FloorArena()
+  furniture = furniture_lib.Furniture(catalog.path_of(ikea_suite.DEFAULT_FURNITURE))
+  robot = _CursorWithCamera()
+  task = assembly.Assembly(arena=arena, furniture=furniture, robot=robot)
+  assert set(camera_observables.named_cameras(arena, robot)) == {"front", "top", "side",
+                                                                  "cursor_eye"}
+  camera_observables.attach(task, cameras=("cursor_eye", "top"), image_size=SIZE)
+  env = Environment(task, time_limit=1.0, random_state=0)
+  observation = env.reset().observation
+  assert observation["cameras/cursor_eye_rgb"].shape == (SIZE, SIZE, 3)
+  assert not np.array_equal(observation["cameras/cursor_eye_rgb"], observation["cameras/top_rgb"])
