@@ -22,6 +22,7 @@ class Geom:
   material: str = "wood_light"
   mesh: str = ""                 # asset name when type == "mesh"
   collide: bool = True           # False: a visual-only geom
+  visible: bool = True           # False: a collision-only geom, hidden (group 3)
 
 
 @dataclasses.dataclass
@@ -87,3 +88,8 @@ def rot_x(angle):
 def rot_y(angle):
   c, s = math.cos(angle), math.sin(angle)
   return np.array([[c, 0, s], [0, 1.0, 0], [-s, 0, c]])
+
+
+def rot_z(angle):
+  c, s = math.cos(angle), math.sin(angle)
+  return np.array([[c, -s, 0.0], [s, c, 0], [0, 0, 1.0]])

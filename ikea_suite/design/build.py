@@ -1,38 +1,50 @@
 """Regenerates models/furniture from the family code: `python -m ikea_suite.design.build`.
 
-`--check` writes nothing and exits 1 when a committed model differs from what
-the code makes (a stale models/ directory).
+Every model is written as one XML file plus the mesh files it uses under
+meshes/ (named by content hash, so identical parts share a file). `--check`
+writes nothing and exits 1 when a committed file differs from what the code
+makes, or a file is left over that no family makes (a stale models/ directory).
 """
 
 import argparse
 import pathlib
 import sys
 
+import tqdm
+
 from ikea_suite.design import catalog
 from ikea_suite.design import mjcf_writer
 from ikea_suite.props import paths
 
 
-def build_all(directory, check=False):
-  """Writes (or, with check, compares) every model; returns the names that differ."""
+def generated_files(progress=False):
+  """Relative path -> bytes of every file of every model, in name order."""
+  files = {}
+  blueprints = catalog.blueprints()
+  for furniture in tqdm.tqdm(blueprints, desc="models", unit="model", disable=not progress):
+    files.update(mjcf_writer.model_files(furniture))
+  return files
+
+
+def _existing(directory):
+  return {p.relative_to(directory).as_posix() for pattern in ("*.xml", "meshes/*")
+          for p in directory.glob(pattern) if p.is_file()}
+
+
+def build_all(directory, check=False, progress=False):
+  """Writes (or, with check, compares) every file; returns the relative paths that differ."""
   directory = pathlib.Path(directory)
-  directory.mkdir(parents=True, exist_ok=True)
-  stale = []
-  wanted = set()
-  for furniture in catalog.blueprints():
-    text = mjcf_writer.blueprint_to_xml(furniture)
-    path = directory / f"{furniture.name}.xml"
-    wanted.add(path.name)
-    if not path.is_file() or path.read_text() != text:
-      stale.append(furniture.name)
-      if not check:
-        path.write_text(text)
-  extra = sorted(p.name for p in directory.glob("*.xml") if p.name not in wanted)
-  stale.extend(f"{name} (no family makes it)" for name in extra)
+  files = generated_files(progress)
+  stale = [rel for rel, data in files.items()
+           if not (directory / rel).is_file() or (directory / rel).read_bytes() != data]
+  extra = sorted(_existing(directory) - set(files)) if directory.is_dir() else []
   if not check:
-    for name in extra:
-      (directory / name).unlink()
-  return stale
+    for rel in stale:
+      (directory / rel).parent.mkdir(parents=True, exist_ok=True)
+      (directory / rel).write_bytes(files[rel])
+    for rel in extra:
+      (directory / rel).unlink()
+  return sorted(stale) + [f"{rel} (no family makes it)" for rel in extra]
 
 
 def main(argv=None):
@@ -40,12 +52,15 @@ def main(argv=None):
   parser.add_argument("--out", default=str(paths.furniture_dir()), help="models directory")
   parser.add_argument("--check", action="store_true", help="fail if models/ is stale")
   args = parser.parse_args(argv)
-  stale = build_all(args.out, check=args.check)
-  if args.check and stale:
-    print(f"models/ is stale; run python -m ikea_suite.design.build. Differing: {stale}")
-    return 1
-  print(f"{'checked' if args.check else 'wrote'} {len(catalog.blueprints())} models in {args.out}"
-        + (f"; updated {stale}" if stale and not args.check else ""))
+  stale = build_all(args.out, check=args.check, progress=sys.stderr.isatty() or not args.check)
+  count = len(catalog.blueprints())
+  if args.check:
+    if stale:
+      print(f"models/ is stale; run python -m ikea_suite.design.build. Differing files: {stale}")
+      return 1
+    print(f"checked {count} models in {args.out}: up to date")
+    return 0
+  print(f"wrote {count} models in {args.out}; {len(stale)} files changed")
   return 0
 
 

@@ -9,6 +9,10 @@ from ikea_suite import geometry
 from ikea_suite.design import materials
 from ikea_suite.props import model_format
 
+MESH_FORMAT = "stl"   # binary STL: compact, and MuJoCo reads it directly
+MESH_DIR = "meshes"
+WELD_SOLREF = "0.01 1"   # as stiff as the task's welds (ikea_suite.tasks.welds)
+
 
 def _fmt(values):
   return " ".join(f"{v:.6g}" if abs(v) > 1e-12 else "0" for v in np.ravel(values))
@@ -28,13 +32,28 @@ def _add_geom(body, part, index, geom):
     attrs["size"] = _fmt(geom.size)
   if not geom.collide:
     attrs.update(contype="0", conaffinity="0", group="1", density="0")
+  if not geom.visible:
+    del attrs["material"]
+    attrs.update(group="3", rgba="0 0 0 0")
   ET.SubElement(body, "geom", attrs)
 
 
+def mesh_file_names(blueprint):
+  """Mesh asset name -> file name (under meshdir) of every mesh the blueprint uses."""
+  return {name: f"{name}.{MESH_FORMAT}" for name in blueprint.meshes}
+
+
+def mesh_bytes(mesh):
+  return mesh.export(file_type=MESH_FORMAT)
+
+
 def blueprint_to_xml(blueprint, mesh_files=None):
-  """The MJCF text of a blueprint; `mesh_files` maps mesh asset names to file names."""
+  """The MJCF text of a blueprint; `mesh_files` maps mesh asset names to file names
+  (default: the blueprint's own meshes, see `mesh_file_names`)."""
+  if mesh_files is None:
+    mesh_files = mesh_file_names(blueprint)
   root = ET.Element("mujoco", model=blueprint.name)
-  ET.SubElement(root, "compiler", angle="radian", meshdir="meshes")
+  ET.SubElement(root, "compiler", angle="radian", meshdir=MESH_DIR)
   custom = ET.SubElement(root, "custom")
   meta = (f"category={blueprint.category}; family={blueprint.family}; "
           f"variant={blueprint.variant}; description={blueprint.description}")
@@ -59,35 +78,20 @@ def blueprint_to_xml(blueprint, mesh_files=None):
       twists = " ".join(f"{t:g}" for t in c.twists_deg)
       ET.SubElement(custom, "text", name=model_format.CONNECTOR_PREFIX + c.name,
                     data=f"type={c.type}; mates={c.mates}; twists={twists}")
-  # Holds the furniture together when the file is simulated in plain MuJoCo;
+  # Holds the furniture together when the file is simulated in plain MuJoCo: one
+  # weld per pair of parts with coinciding mates, as if every joint were screwed.
   # ikea_suite ignores this block and declares its own inactive welds.
   equality = ET.SubElement(root, "equality")
-  for a, b in _spanning_pairs(blueprint):
-    ET.SubElement(equality, "weld", body1=a, body2=b)
+  for a, b in _mated_pairs(blueprint):
+    ET.SubElement(equality, "weld", body1=a, body2=b, solref=WELD_SOLREF)
   ET.indent(root, space="  ")
   return ET.tostring(root, encoding="unicode") + "\n"
 
 
-def _spanning_pairs(blueprint):
-  """Part pairs joined by connectors, one spanning tree (breadth first from part 0)."""
-  owner = {}
-  for part in blueprint.parts:
-    for c in part.connectors:
-      owner[c.name] = part.name
-  neighbours = {p.name: [] for p in blueprint.parts}
-  for a in blueprint.parts:
-    for b in blueprint.parts:
-      if a is not b and _mated(a, b):
-        neighbours[a.name].append(b.name)
-  seen, order, pairs = {blueprint.parts[0].name}, [blueprint.parts[0].name], []
-  while order:
-    current = order.pop(0)
-    for nxt in neighbours[current]:
-      if nxt not in seen:
-        seen.add(nxt)
-        order.append(nxt)
-        pairs.append((current, nxt))
-  return pairs
+def _mated_pairs(blueprint):
+  """Names of part pairs joined by coinciding mating connectors, in part order."""
+  parts = blueprint.parts
+  return [(a.name, b.name) for i, a in enumerate(parts) for b in parts[i + 1:] if _mated(a, b)]
 
 
 def _mated(a, b):
@@ -99,7 +103,18 @@ def _mated(a, b):
   return False
 
 
-def write(blueprint, directory, mesh_files=None):
-  path = pathlib.Path(directory) / f"{blueprint.name}.xml"
-  path.write_text(blueprint_to_xml(blueprint, mesh_files))
-  return path
+def model_files(blueprint):
+  """Relative path -> bytes of every file the model needs: its XML and its meshes."""
+  files = {f"{blueprint.name}.xml": blueprint_to_xml(blueprint).encode()}
+  for name, filename in mesh_file_names(blueprint).items():
+    files[f"{MESH_DIR}/{filename}"] = mesh_bytes(blueprint.meshes[name])
+  return files
+
+
+def write(blueprint, directory):
+  """Writes the model and its meshes under `directory`; returns the XML path."""
+  directory = pathlib.Path(directory)
+  for relative, data in model_files(blueprint).items():
+    (directory / relative).parent.mkdir(parents=True, exist_ok=True)
+    (directory / relative).write_bytes(data)
+  return directory / f"{blueprint.name}.xml"

@@ -1,31 +1,62 @@
-"""Storage boxes: a bottom panel with four walls standing on it."""
+"""Storage boxes: a bottom panel with four walls standing on it, optionally a divider or a lid."""
 
 from ikea_suite.design import blueprint as bp
+from ikea_suite.design import part_geoms
+
+GAP = 0.002
 
 
 def open_box(name, variant, length=0.40, width=0.30, height=0.15, board=0.012,
-             material="wood_light"):
-  """Long walls run the full length; short walls fit between them."""
-  furniture = bp.Blueprint(name, "box", "open", variant,
-                           f"{length:.2f} x {width:.2f} x {height:.2f} m open storage box")
-  bottom = furniture.add_part("bottom", (0, 0, board / 2), geoms=[
-      bp.Geom("box", (length / 2, width / 2, board / 2), material=material)])
+             material="wood_light", divider=False, lid=False):
+  """Long walls run the full length; short walls fit between them. A divider splits the box
+  across the middle; a lid lies on the walls."""
+  extras = " with a divider" if divider else (" with a lid" if lid else "")
+  family = "divided" if divider else ("lidded" if lid else "open")
+  furniture = bp.Blueprint(name, "box", family, variant,
+                           f"{length:.2f} x {width:.2f} x {height:.2f} m storage box{extras}")
+  bottom = furniture.add_part("bottom", (0, 0, board / 2), geoms=part_geoms.board(
+      furniture, (length, width, board), material, bevel=0.002))
   wall_z = board + height / 2
+  long_wall = part_geoms.board(furniture, (length, board, height), material, bevel=0.002)
   for i, sy in enumerate((1, -1)):
     y = sy * (width / 2 - board / 2)
-    wall = furniture.add_part(f"long_wall{i}", (0, y, wall_z), geoms=[
-        bp.Geom("box", (length / 2, board / 2, height / 2), material=material)])
+    wall = furniture.add_part(f"long_wall{i}", (0, y, wall_z), geoms=long_wall)
     furniture.connect(bottom, wall, (0, y, board), up=(0, 0, 1), forward=(1, 0, 0),
                       type_a="bottom_long_slot", type_b="long_wall_bottom", twists_deg=(0, 180))
+  inner = width - 2 * board
+  short_wall = part_geoms.board(furniture, (board, inner - 2 * GAP, height), material, bevel=0.002)
   for i, sx in enumerate((1, -1)):
     x = sx * (length / 2 - board / 2)
-    inner = width / 2 - board
-    wall = furniture.add_part(f"short_wall{i}", (x, 0, wall_z), geoms=[
-        bp.Geom("box", (board / 2, inner, height / 2), material=material)])
+    wall = furniture.add_part(f"short_wall{i}", (x, 0, wall_z), geoms=short_wall)
     furniture.connect(bottom, wall, (x, 0, board), up=(0, 0, 1), forward=(1, 0, 0),
                       type_a="bottom_short_slot", type_b="short_wall_bottom", twists_deg=(0, 180))
+  if divider:
+    part = furniture.add_part("divider", (0, 0, board + (height - 0.02) / 2), geoms=part_geoms.board(
+        furniture, (board, inner - 2 * GAP, height - 0.02), material, bevel=0.002))
+    furniture.connect(bottom, part, (0, 0, board), up=(0, 0, 1), forward=(1, 0, 0),
+                      type_a="bottom_divider_slot", type_b="divider_bottom", twists_deg=(0, 180))
+  if lid:
+    top_z = board + height
+    part = furniture.add_part("lid", (0, 0, top_z + board / 2), geoms=part_geoms.board(
+        furniture, (length, width, board), material, bevel=0.002))
+    furniture.connect(furniture.part("long_wall0"), part, (0, width / 2 - board / 2, top_z),
+                      up=(0, 0, 1), forward=(1, 0, 0), type_a="wall_lid_slot", type_b="lid_rim",
+                      twists_deg=(0,))
   return furniture
 
 
 def variants():
-  return [open_box("box_open_kuggis", "kuggis")]
+  specs = [("kuggis", {}),
+           ("small_white", dict(length=0.26, width=0.18, height=0.12, material="white_laminate")),
+           ("large_birch", dict(length=0.55, width=0.37, height=0.2, material="birch")),
+           ("shoe_dark", dict(length=0.5, width=0.3, height=0.12, material="wood_dark")),
+           ("tall_black", dict(length=0.33, width=0.33, height=0.3, material="black_laminate"))]
+  out = [open_box(f"box_open_{v}", v, **kw) for v, kw in specs]
+  divided = [("birch", dict(material="birch")),
+             ("white_long", dict(length=0.6, width=0.3, material="white_laminate"))]
+  out += [open_box(f"box_divided_{v}", v, divider=True, **kw) for v, kw in divided]
+  lidded = [("oak", dict(material="wood_medium")),
+            ("white_flat", dict(length=0.5, width=0.35, height=0.1, material="white_laminate")),
+            ("toy_pine", dict(length=0.6, width=0.4, height=0.3, board=0.015))]
+  out += [open_box(f"box_lidded_{v}", v, lid=True, **kw) for v, kw in lidded]
+  return out
