@@ -32,7 +32,8 @@ class ScatteredParts(composer.Initializer):
   """Places parts lying flat, random yaw, in a ring around the origin without overlap.
 
   The ring starts `clearance` beyond the assembled furniture's radius and is
-  `spread` metres wide; `yaw` is a dm_control distribution (radians).
+  `spread` metres wide (wider when too crowded to fit every part); `yaw` is
+  a dm_control distribution (radians).
 
   Curriculum: `preassembled` (an int, or an inclusive (low, high) range drawn
   each episode) connections are made before the episode starts. They are a
@@ -107,8 +108,10 @@ class ScatteredParts(composer.Initializer):
     return [[i for i in range(num_parts) if group[i] == g] for g in sorted(set(group))]
 
   def _sample_xy(self, random_state, radius, placed):
-    for _ in range(self._max_attempts):
-      r = random_state.uniform(self._inner + radius, self._inner + radius + self._spread)
+    for attempt in range(self._max_attempts):
+      # A crowded ring widens by one part width every 100 failed draws.
+      width = self._spread + (attempt // 100) * (2 * radius + self._gap)
+      r = random_state.uniform(self._inner + radius, self._inner + radius + width)
       angle = random_state.uniform(-np.pi, np.pi)
       xy = r * np.array([np.cos(angle), np.sin(angle)])
       if all(np.linalg.norm(xy - other) > radius + other_r + self._gap for other, other_r in placed):
@@ -142,7 +145,11 @@ OPTIONS = ("spread", "preassembled", "yaw_range")
 def scattered_parts(furniture, spread=0.9, preassembled=0, yaw_range=np.pi):
   """ScatteredParts from load() options: ring width (m), curriculum count, largest |yaw| (rad)."""
   for name, value in (("spread", spread), ("yaw_range", yaw_range)):
-    if not np.isscalar(value) or not 0 <= value < np.inf:
+    if not _is_number(value) or not 0 <= value < np.inf:
       raise randomization.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
   return ScatteredParts(furniture, spread=float(spread), preassembled=preassembled,
                         yaw=distributions.Uniform(-float(yaw_range), float(yaw_range)))
+
+
+def _is_number(value):
+  return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)

@@ -108,11 +108,12 @@ def _check(name, value):
                              f"got {value!r}")
     return True
   if name in _AMOUNTS:
-    if not np.isscalar(value) or not 0 <= value < np.inf:
+    if (not isinstance(value, (int, float, np.integer, np.floating)) or isinstance(value, bool)
+        or not 0 <= value < np.inf):
       raise OptionValueError(f"randomization factor {name!r} needs an amount >= 0, got {value!r}")
     return float(value)
   try:
-    low, high = value
+    low, high = (float(v) for v in value)
   except (TypeError, ValueError):
     raise OptionValueError(f"randomization factor {name!r} needs a (low, high) range, "
                            f"got {value!r}") from None
