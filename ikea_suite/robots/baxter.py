@@ -39,6 +39,6 @@ class Baxter(manipulator.Manipulator):
           torque_limits=np.array([limits[j][1] for j in joints]), gripper=gripper,
           camera=root.find("camera", f"{side}_eye_in_hand"), seed=np.array(_SEEDS[side]),
           home_tcp=np.array([0.6, 0.3 * y, 0.3]),
-          workspace=np.array([[0.1, min(-0.2 * y, 1.0 * y), -0.055],
-                              [1.1, max(-0.2 * y, 1.0 * y), 1.0]])))
+          workspace=np.array([[-0.4, min(-0.2 * y, 1.1 * y), -0.055],
+                              [1.1, max(-0.2 * y, 1.1 * y), 1.0]])))
     return root, arms

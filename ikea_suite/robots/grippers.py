@@ -13,7 +13,7 @@ from ikea_suite.robots import robot_facts
 
 # Finger pads grip with more friction than bare links (MuJoCo takes the larger of
 # the two geoms' coefficients) and resist twisting of a held part (condim 4).
-_PAD_FRICTION = (1.5, 0.02, 0.0001)
+_PAD_FRICTION = (2.0, 0.05, 0.0001)
 _PAD_CONDIM = 4
 
 

@@ -25,7 +25,7 @@ class Jaco(manipulator.Manipulator):
 
   DEFAULT_NAME = "jaco"
   BASE_POS = (-0.45, 0.0, 0.0)
-  REACH = 0.75
+  REACH = 0.8
   KP_PER_NM = 30.0   # the Jaco's heavy joint armature needs stiffer position gains
 
   def _build_body(self, name):
@@ -56,5 +56,5 @@ class Jaco(manipulator.Manipulator):
     arm = manipulator.Arm(
         prefix="", joints=list(arm_entity.joints), torque_limits=np.array(_TORQUE_LIMITS),
         gripper=gripper, camera=camera, seed=np.array(_SEED), home_tcp=np.array([0.4, 0.0, 0.35]),
-        workspace=np.array([[0.1, -0.75, 0.005], [0.85, 0.75, 0.9]]))
+        workspace=np.array([[-0.45, -0.8, 0.005], [0.85, 0.8, 0.9]]))
     return root, [arm]

@@ -180,6 +180,8 @@ class Manipulator(base.Robot):
     self._finger_qpos = np.array([bind(a.gripper.joints).qposadr for a in self._arms])
     self._finger_act = np.array([bind(a.gripper.actuators).element_id for a in self._arms])
     self._tcp_ids = np.array(bind([a.gripper.tcp_site for a in self._arms]).element_id)
+    self._finger_bodies = [np.array(bind([j.parent for j in a.gripper.joints]).element_id)
+                           for a in self._arms]
     ranges = np.array([bind(a.joints).range for a in self._arms])            # (arms, joints, 2)
     limited = np.array([bind(a.joints).limited for a in self._arms]).astype(bool)
     self._joint_low = np.where(limited, ranges[..., 0], -np.pi)
@@ -236,6 +238,10 @@ class Manipulator(base.Robot):
     """World position and rotation matrix of an arm's tool-centre point."""
     site = self._tcp_ids[arm]
     return physics.data.site_xpos[site].copy(), physics.data.site_xmat[site].reshape(3, 3).copy()
+
+  def finger_positions(self, physics, arm=0):
+    """World positions (fingers, 3) of an arm's gripper finger bodies."""
+    return physics.data.xpos[self._finger_bodies[arm]].copy()
 
   def task_space_target(self, arm=0):
     return self._targets.pos[arm].copy(), self._targets.rot[arm].copy()

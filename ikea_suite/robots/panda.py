@@ -21,7 +21,7 @@ class Panda(manipulator.Manipulator):
 
   DEFAULT_NAME = "panda"
   BASE_POS = (-0.5, 0.0, 0.0)
-  REACH = 0.75
+  REACH = 0.8
 
   def _build_body(self, name):
     facts = robot_facts.load("panda")
@@ -35,5 +35,5 @@ class Panda(manipulator.Manipulator):
         torque_limits=np.array([limits[j][1] for j in JOINTS]), gripper=gripper,
         camera=root.find("camera", "eye_in_hand"), seed=np.array(_SEED),
         home_tcp=np.array([0.45, 0.0, 0.35]),
-        workspace=np.array([[0.1, -0.75, 0.005], [0.9, 0.75, 0.9]]))
+        workspace=np.array([[-0.45, -0.8, 0.005], [0.9, 0.8, 0.9]]))
     return root, [arm]

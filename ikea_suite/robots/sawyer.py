@@ -36,5 +36,5 @@ class Sawyer(manipulator.Manipulator):
         torque_limits=np.array([limits[j][1] for j in JOINTS]), gripper=gripper,
         camera=root.find("camera", "eye_in_hand"), seed=np.array(_SEED),
         home_tcp=np.array([0.45, 0.0, 0.35]),
-        workspace=np.array([[0.1, -0.85, 0.005], [1.0, 0.85, 1.0]]))
+        workspace=np.array([[-0.5, -0.9, 0.005], [1.0, 0.9, 1.0]]))
     return root, [arm]

@@ -38,12 +38,15 @@ def mates_from_below(spec, table, root):
 class ReachableParts(composer.Initializer):
   """Root part in front of the base, the rest in a ring around it; random yaw and position."""
 
-  def __init__(self, furniture, base_xy, base_rot, reach, inner=0.2, gap=0.03,
-               root_jitter=(0.03, np.radians(15)), sector=np.radians(150), max_attempts=200):
+  def __init__(self, furniture, base_xy, base_rot, reach, inner=0.2, min_distance=0.5, gap=0.03,
+               root_jitter=(0.03, np.radians(15)), sector=np.radians(135), max_attempts=200):
     self._furniture = furniture
     self._base_xy = np.asarray(base_xy, dtype=float)
     self._heading = np.arctan2(base_rot[1, 0], base_rot[0, 0])
+    # inner: clearance around the base; min_distance: nearest a part centre may lie
+    # to the base (an arm pointing down cannot reach right beside itself).
     self._reach, self._inner, self._gap = reach, inner, gap
+    self._min_distance = min_distance
     self._root_jitter, self._sector, self._max_attempts = root_jitter, sector, max_attempts
     spec = furniture.spec
     self._root = planner.root_part(spec)
@@ -72,7 +75,7 @@ class ReachableParts(composer.Initializer):
     rot = geometry.rot_z(self._heading + random_state.uniform(-yaw_jitter, yaw_jitter)) @ self._root_rest
     _, _, radius = self._footprint(self._root, rot)
     forward = np.array([np.cos(self._heading), np.sin(self._heading)])
-    xy = self._base_xy + forward * (self._inner + radius + 0.1) + random_state.uniform(-offset, offset, 2)
+    xy = self._base_xy + forward * (self._inner + radius) + random_state.uniform(-offset, offset, 2)
     self._place(physics, self._root, rot, xy)
     placed = [(xy, radius)]
     others = sorted((i for i in range(len(specs)) if i != self._root),
@@ -86,10 +89,11 @@ class ReachableParts(composer.Initializer):
       placed.append((xy, radius))
 
   def _sample_xy(self, random_state, radius, placed):
-    outer = max(self._reach, self._inner + 2 * radius)
+    nearest = max(self._min_distance, self._inner + radius)
+    outer = max(self._reach, nearest + 0.1)
     while True:
       for _ in range(self._max_attempts):
-        distance = random_state.uniform(self._inner + radius, outer)
+        distance = random_state.uniform(nearest, outer)
         angle = self._heading + random_state.uniform(-self._sector, self._sector)
         xy = self._base_xy + distance * np.array([np.cos(angle), np.sin(angle)])
         if all(np.linalg.norm(xy - other) > radius + other_r + self._gap for other, other_r in placed):

@@ -1,0 +1,299 @@
+"""A scripted task-space controller for a single parallel-gripper arm (built on Sawyer).
+
+With privileged state it picks the planner's next part, grasps it by
+friction, turns it so its connector meets the mate on the assembly, and
+issues connect, through the same action vector a learning agent sends
+(task_space mode: move, rotate, gripper, connect). It then lets go, backs
+off, and moves on to the next pair, so it can grow into full assembly; for
+now it connects parts whose mating connector the arm can reach.
+"""
+
+import enum
+
+import numpy as np
+
+from ikea_suite import errors
+from ikea_suite import geometry
+from ikea_suite.oracle import targets
+from ikea_suite.robots import control_modes
+from ikea_suite.tasks import planner
+
+_ANY_TWIST_GRID = np.radians(np.arange(0, 360, 45))
+
+
+class Phase(enum.Enum):
+  REACH = "reach"       # open gripper above the part's grasp point
+  DESCEND = "descend"   # down to the grasp point
+  CLOSE = "close"       # squeeze; the part is held by contact friction only
+  LIFT = "lift"         # raise the part clear of the floor
+  ALIGN = "align"       # carry and turn it to just short of its mating pose
+  INSERT = "insert"     # close the last gap and connect
+  RELEASE = "release"   # open the gripper on the joined part
+  RETREAT = "retreat"   # back off before the next part
+
+
+def tool_rotation(approach, closing, closing_local):
+  """Tool rotation whose z axis is `approach` and whose finger axis (`closing_local`) is `closing`."""
+  local_b = np.cross([0.0, 0.0, 1.0], closing_local)
+  world_b = np.cross(approach, closing)
+  local = np.column_stack([closing_local, local_b, [0.0, 0.0, 1.0]])
+  world = np.column_stack([closing, world_b, approach])
+  return world @ local.T
+
+
+def pose_action(robot, physics, arm, goal_pos, goal_rot, gain=0.6, max_turn=1.0):
+  """Task-space action entries (6) moving the measured tool towards a goal pose.
+
+  Acting on the measured error each step (the robot integrates deltas into
+  its target) removes steady-state tracking offsets, e.g. from a held load.
+  """
+  pos, rot = robot.tcp_pose(physics, arm)
+  move = gain * (goal_pos - pos) / robot._targets._max_translation
+  turn = gain * geometry.mat_to_axis_angle(goal_rot @ rot.T) / robot._targets._max_rotation
+  move /= max(1.0, np.abs(move).max())
+  turn *= max_turn / max(max_turn, np.abs(turn).max())
+  return np.concatenate([move, turn])
+
+
+def pose_error(robot, physics, arm, goal_pos, goal_rot):
+  pos, rot = robot.tcp_pose(physics, arm)
+  return np.linalg.norm(goal_pos - pos), np.linalg.norm(geometry.mat_to_axis_angle(goal_rot @ rot.T))
+
+
+class ArmAssemblyController:
+  """Call with a TimeStep (or nothing); returns the action for `env`."""
+
+  def __init__(self, env, arm=0, hover=0.12, lift=0.45, carry=0.5, approach=0.08, tolerance=0.5,
+               close_steps=8, release_steps=6):
+    robot = env.task.robot
+    if getattr(robot, "control_mode", None) != control_modes.TASK_SPACE:
+      raise errors.IkeaSuiteError(
+          "ArmAssemblyController drives an arm in control_mode='task_space'")
+    self._env, self._robot, self._arm = env, robot, arm
+    self._hover, self._lift, self._carry, self._approach = hover, lift, carry, approach
+    self._tolerance = tolerance
+    self._close_steps, self._release_steps = close_steps, release_steps
+    self.reset()
+
+  def reset(self):
+    self.phase = Phase.REACH
+    self._counter = 0
+    self._connections = 0
+    self._job = None   # (pair, moving part)
+    self._grasp = None   # (position, rotation) of the tool at the grasp
+    self._plan = None   # (pair, twist) the held part is brought to
+
+  # -- choosing work -----------------------------------------------------------------
+
+  def _choose_job(self):
+    """The open pair joining the root's group whose fixed connector is nearest the base."""
+    task, physics = self._env.task, self._env.physics
+    table, state = task.furniture.connectors, task.state
+    groups = state.group_labels()
+    root_group = groups[task.root_part]
+    positions, rotations = task.furniture.part_poses(physics)
+    cpos, _ = table.world_frames(positions, rotations)
+    base, _ = self._robot.base_pose
+    best = None
+    for pair in np.flatnonzero(planner.open_pairs(table, state)):
+      a, b = table.pair_a[pair], table.pair_b[pair]
+      for fixed, moving in ((a, b), (b, a)):
+        if groups[table.part[fixed]] == root_group and groups[table.part[moving]] != root_group:
+          part_xy = positions[table.part[moving]][:2]
+          distance = (np.linalg.norm(cpos[fixed][:2] - base[:2])
+                      + np.linalg.norm(part_xy - base[:2]))   # reachable slot, then near part
+          if best is None or distance < best[0]:
+            best = (distance, int(pair), int(table.part[moving]))
+    return None if best is None else best[1:]
+
+  # -- geometry from privileged state -----------------------------------------------
+
+  def _closing_local(self):
+    physics = self._env.physics
+    fingers = self._robot.finger_positions(physics, self._arm)
+    _, rot = self._robot.tcp_pose(physics, self._arm)
+    axis = rot.T @ (fingers[1] - fingers[0])
+    axis[2] = 0.0
+    return axis / np.linalg.norm(axis)
+
+  def _grasp_pose(self, part):
+    """Tool pose at the part's grasp point: pointing down, fingers across its long axis."""
+    physics, furniture = self._env.physics, self._env.task.furniture
+    point = targets.grasp_point(physics, furniture, part)
+    _, part_rot = targets.part_pose(physics, furniture, part)
+    bounds = furniture.spec.parts[part].bounds
+    long_axis = part_rot[:, int(np.argmax(bounds[1] - bounds[0]))].copy()
+    long_axis[2] = 0.0
+    if np.linalg.norm(long_axis) < 1e-6:   # standing part: any horizontal closing axis
+      long_axis = np.array([1.0, 0.0, 0.0])
+    long_axis /= np.linalg.norm(long_axis)
+    closing = np.cross([0.0, 0.0, 1.0], long_axis)
+    closing_local = self._closing_local()
+    _, tool = self._robot.tcp_pose(physics, self._arm)
+    if np.dot(tool @ closing_local, closing) < 0:
+      closing = -closing   # the nearer of the two symmetric grasps
+    return point, tool_rotation(np.array([0.0, 0.0, -1.0]), closing, closing_local)
+
+  def _part_goal(self, pair, moving, twist):
+    """Pose of `moving` that makes the pair's connectors coincide at `twist`; plus approach side."""
+    physics, furniture = self._env.physics, self._env.task.furniture
+    table = furniture.connectors
+    con_a, con_b = table.pair_a[pair], table.pair_b[pair]
+    moving_con, fixed_con = (con_a, con_b) if table.part[con_a] == moving else (con_b, con_a)
+    positions, rotations = furniture.part_poses(physics)
+    cpos, crot = table.world_frames(positions, rotations)
+    # Aligned means R_b = R_a Rz(t): the moving frame is R_fixed Rz(-t) if it is a, Rz(t) if b.
+    sign = -1.0 if moving_con == con_a else 1.0
+    rot = crot[fixed_con] @ geometry.rot_z(sign * twist) @ table.local_rot[moving_con].T
+    pos = cpos[fixed_con] - rot @ table.local_pos[moving_con]
+    side = pos - cpos[fixed_con]
+    return pos, rot, side / max(np.linalg.norm(side), 1e-6)
+
+  def _plan_mating(self, moving):
+    """(pair, twist) for the held part: the mate and twist the arm reaches best (IK check)."""
+    task, physics, robot = self._env.task, self._env.physics, self._robot
+    table, state = task.furniture.connectors, task.state
+    groups = state.group_labels()
+    ik = robot._ik
+    q = physics.data.qpos[robot._ik_to_qpos].copy()
+    base_pos, base_rot = robot.base_pose
+    best = None
+    for pair in np.flatnonzero(planner.open_pairs(table, state)):
+      parts = {int(table.part[table.pair_a[pair]]), int(table.part[table.pair_b[pair]])}
+      if moving not in parts or groups[(parts - {moving}).pop()] != groups[task.root_part]:
+        continue
+      twists = _ANY_TWIST_GRID if table.any_twist[pair] else (
+          table.twist_angles[pair][table.twist_valid[pair]])
+      for twist in twists:
+        part_pos, part_rot, side = self._part_goal(pair, moving, twist)
+        goal_pos, goal_rot = self._tool_goal_for_part(
+            moving, part_pos + self._approach * side, part_rot)
+        target = (base_rot.T @ (goal_pos - base_pos), base_rot.T @ goal_rot)
+        solution = ik.solve(q, [target], iterations=60)
+        pos, rot = ik.tcp_poses(solution)[0]
+        miss = (np.linalg.norm(pos - target[0])
+                + 0.2 * np.linalg.norm(geometry.mat_to_axis_angle(rot @ target[1].T)))
+        part_xy = task.furniture.part_poses(physics)[0][moving][:2]
+        score = (miss + 0.02 * np.linalg.norm(solution - q)
+                 + 0.3 * np.linalg.norm(goal_pos[:2] - part_xy))   # prefer mates nearby
+        if best is None or score < best[0]:
+          best = (score, int(pair), float(twist))
+    return None if best is None else best[1:]
+
+  def _tool_goal_for_part(self, part, part_goal_pos, part_goal_rot):
+    """Tool pose that puts the held part at the goal, using the measured grip."""
+    physics, furniture = self._env.physics, self._env.task.furniture
+    part_pos, part_rot = targets.part_pose(physics, furniture, part)
+    tcp_pos, tcp_rot = self._robot.tcp_pose(physics, self._arm)
+    grip_pos, grip_rot = part_rot.T @ (tcp_pos - part_pos), part_rot.T @ tcp_rot
+    return part_goal_pos + part_goal_rot @ grip_pos, part_goal_rot @ grip_rot
+
+  def _holding(self, part):
+    physics, furniture = self._env.physics, self._env.task.furniture
+    part_pos = targets.grasp_point(physics, furniture, part)
+    tcp_pos, _ = self._robot.tcp_pose(physics, self._arm)
+    bounds = furniture.spec.parts[part].bounds
+    return (np.linalg.norm(part_pos - tcp_pos) < 0.6 * np.max(bounds[1] - bounds[0])
+            and self._robot.gripper_opening(physics, self._arm) > 0.05)
+
+  # -- the policy ------------------------------------------------------------------------
+
+  def __call__(self, timestep=None):
+    env, task = self._env, self._env.task
+    physics, robot, arm = env.physics, self._robot, self._arm
+    action = np.zeros(env.action_spec().shape)
+    base = arm * robot.actions_per_arm
+    poses, grip = action[base:base + 6], base + 6
+    if len(task.state.connections) != self._connections:
+      self._connections = len(task.state.connections)
+      self.phase, self._counter = Phase.RELEASE, 0
+    if self._job is None or self.phase == Phase.REACH and self._counter == 0:
+      self._job = self._choose_job()
+      self._counter = 1
+    if self._job is None and self.phase not in (Phase.RELEASE, Phase.RETREAT):
+      return action
+    pair, moving = self._job if self._job else (None, None)
+    phase = self.phase
+    action[grip] = 1.0 if phase in (Phase.CLOSE, Phase.LIFT, Phase.ALIGN, Phase.INSERT) else -1.0
+    if phase in (Phase.REACH, Phase.DESCEND):
+      point, rot = self._grasp_pose(moving)
+      goal = point + [0.0, 0.0, self._hover] if phase == Phase.REACH else point
+      poses[:] = pose_action(robot, physics, arm, goal, rot)
+      distance, angle = pose_error(robot, physics, arm, goal, rot)
+      if phase == Phase.REACH and distance < 0.02 and angle < 0.05:
+        self.phase = Phase.DESCEND
+      elif phase == Phase.DESCEND and distance < 0.006 and angle < 0.05:
+        self.phase, self._counter = Phase.CLOSE, 0
+        self._grasp = (goal, rot)
+    elif phase == Phase.CLOSE:
+      poses[:] = pose_action(robot, physics, arm, *self._grasp)
+      self._counter += 1
+      if self._counter >= self._close_steps:
+        self.phase = Phase.LIFT
+    elif phase == Phase.LIFT:
+      goal = self._grasp[0] + [0.0, 0.0, self._lift - self._grasp[0][2]]
+      poses[:] = pose_action(robot, physics, arm, goal, self._grasp[1])
+      if pose_error(robot, physics, arm, goal, self._grasp[1])[0] < 0.03:
+        self.phase = Phase.ALIGN
+    elif phase in (Phase.ALIGN, Phase.INSERT):
+      if not self._holding(moving):
+        self.phase, self._counter, self._plan = Phase.REACH, 0, None   # dropped it: start over
+        return action
+      if self._plan is None:
+        self._plan, self._carrying = self._plan_mating(moving), True
+        if self._plan is None:
+          self.phase, self._counter = Phase.REACH, 0
+          return action
+      pair, twist = self._plan
+      part_pos, part_rot, side = self._part_goal(pair, moving, twist)
+      offset = self._approach if phase == Phase.ALIGN else 0.004
+      goal = self._tool_goal_for_part(moving, part_pos + offset * side, part_rot)
+      if self._carrying:   # first over the goal at carry height, then down to it
+        high = goal[0] + [0.0, 0.0, max(0.0, self._carry - goal[0][2])]
+        # Turning slowly keeps a held part from swinging out of the fingers.
+        poses[:] = pose_action(robot, physics, arm, self._arc_waypoint(high), goal[1], max_turn=0.3)
+        distance, angle = pose_error(robot, physics, arm, high, goal[1])
+        self._carrying = not (distance < 0.03 and angle < 0.05)
+        return action
+      poses[:] = pose_action(robot, physics, arm, *goal)
+      current, rot = targets.part_pose(physics, task.furniture, moving)
+      distance = np.linalg.norm(part_pos + offset * side - current)
+      angle = np.linalg.norm(geometry.mat_to_axis_angle(part_rot @ rot.T))
+      if phase == Phase.ALIGN and distance < 0.01 and angle < 0.03:
+        self.phase = Phase.INSERT
+      elif phase == Phase.INSERT and self._attachable(pair):
+        self._plan = None
+        action[-1] = 1.0
+    elif phase == Phase.RELEASE:
+      self._counter += 1
+      if self._counter >= self._release_steps:
+        self.phase, self._counter = Phase.RETREAT, 0
+        pos, rot = robot.tcp_pose(physics, arm)
+        self._grasp = (pos - 0.1 * rot[:, 2] + [0.0, 0.0, 0.1], rot)
+    elif phase == Phase.RETREAT:
+      poses[:] = pose_action(robot, physics, arm, *self._grasp)
+      self._counter += 1
+      if pose_error(robot, physics, arm, *self._grasp)[0] < 0.03 or self._counter > 40:
+        self.phase, self._counter = Phase.REACH, 0
+    return action
+
+  def _arc_waypoint(self, goal, max_turn=0.25, max_step=0.1):
+    """A point on an arc around the base towards `goal`: carrying never sweeps across the base."""
+    base, _ = self._robot.base_pose
+    pos, _ = self._robot.tcp_pose(self._env.physics, self._arm)
+    here, there = pos[:2] - base[:2], goal[:2] - base[:2]
+    radius, target_radius = np.linalg.norm(here), np.linalg.norm(there)
+    angle = np.arctan2(here[1], here[0])
+    turn = np.angle(np.exp(1j * (np.arctan2(there[1], there[0]) - angle)))
+    angle += np.clip(turn, -max_turn, max_turn)
+    radius += np.clip(target_radius - radius, -max_step, max_step)
+    z = pos[2] + np.clip(goal[2] - pos[2], -max_step, max_step)
+    return np.array([base[0] + radius * np.cos(angle), base[1] + radius * np.sin(angle), z])
+
+  def _attachable(self, pair):
+    task = self._env.task
+    scores, t = task.alignment(self._env.physics), task.thresholds
+    tol = self._tolerance
+    return bool(scores.distance[pair] < tol * t.distance
+                and scores.up_cos[pair] > 1 - tol * (1 - t.up_cos)
+                and scores.forward_cos[pair] > 1 - tol * (1 - t.forward_cos))
