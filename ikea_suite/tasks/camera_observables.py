@@ -83,6 +83,10 @@ class CameraRig(composer.Entity):
     offscreen = getattr(arena.mjcf_model.visual, "global")
     offscreen.offwidth = max(self._width, offscreen.offwidth or 640)
     offscreen.offheight = max(self._height, offscreen.offheight or 480)
+    # Shadow maps dominate software rendering; small images need no finer one than 4 texels/pixel.
+    quality = arena.mjcf_model.visual.quality
+    quality.shadowsize = int(np.clip(4 * max(self._height, self._width), 512,
+                                     quality.shadowsize or 4096))
     self._episode = 0
     self._renderers = {}
     self._frames, self._frames_key = {}, None
