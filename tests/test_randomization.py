@@ -252,3 +252,18 @@ def test_yaw_is_applied_about_the_vertical():
     yaw_rot = rot[index] @ placement.resting_rotation(part.bounds).T
     angle = geometry.mat_to_axis_angle(yaw_rot)
     assert abs(angle[2]) <= 0.3 + 1e-9 and np.allclose(angle[:2], 0, atol=1e-9)
+
+
+def test_same_seed_renders_the_same_randomized_images(gl):
+  options = dict(randomize="all", scene="interior", cameras=("front",), image_size=32,
+                 camera_outputs=("rgb", "depth", "segmentation"))
+  images = []
+  for seed in (5, 5, 6):
+    env = _load(seed=seed, **options)
+    env.reset()
+    observation = env.step(np.zeros(env.action_spec().shape)).observation
+    images.append([observation[f"cameras/front_{kind}"] for kind in ("rgb", "depth",
+                                                                      "segmentation")])
+  for a, b in zip(images[0], images[1]):
+    np.testing.assert_array_equal(a, b)
+  assert not np.array_equal(images[0][0], images[2][0])
