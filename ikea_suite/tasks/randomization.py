@@ -34,9 +34,9 @@ FACTORS = {
     "light_count": ((1, 4), "number of lights switched on"),
     "light_position": (0.5, "largest shift of each light's position and direction, m"),
     "light_color": (0.3, "largest saturation of each light's random hue (0: white)"),
-    "light_intensity": ((0.5, 1.5), "multiplier of each light's brightness"),
-    "floor": (True, "floor texture drawn among procedural patterns, random colour"),
-    "background": (True, "backdrop walls with a random procedural texture and colour"),
+    "light_intensity": ((0.6, 1.4), "multiplier of each light's brightness"),
+    "floor": (True, "floor pattern drawn among 4 procedural ones in the scene's colours, random tint"),
+    "background": (True, "backdrop walls, pattern drawn among 4 in the scene's colours, random tint"),
     "part_color": (True, "a random colour for each part"),
     "part_material": (True, "random specular, shininess and reflectance of each part"),
     "camera_jitter": (0.05, "largest shift of each arena camera and its look-at point, m"),
@@ -50,14 +50,22 @@ _AMOUNTS = ("light_position", "light_color", "camera_jitter")
 _SWITCHES = ("floor", "background", "part_color", "part_material")
 
 MAX_LIGHTS = 4
-_FLOOR_PATTERNS = (
-    dict(builtin="checker", rgb1=(1, 1, 1), rgb2=(0.8, 0.8, 0.8)),
-    dict(builtin="checker", rgb1=(0.9, 0.9, 0.9), rgb2=(0.9, 0.9, 0.9), mark="edge",
-         markrgb=(0.5, 0.5, 0.5)),
-    dict(builtin="flat", rgb1=(0.9, 0.9, 0.9), rgb2=(0.9, 0.9, 0.9), mark="random",
-         markrgb=(0.6, 0.6, 0.6), random=0.3),
-    dict(builtin="gradient", rgb1=(1, 1, 1), rgb2=(0.7, 0.7, 0.7)),
-)
+
+
+def patterns(rgb1, rgb2):
+  """Procedural 2D textures in a scene's own two colours: checker, tiles, speckle, gradient."""
+  rgb1, rgb2 = np.asarray(rgb1, dtype=float), np.asarray(rgb2, dtype=float)
+  return (dict(builtin="checker", rgb1=rgb1, rgb2=rgb2),
+          dict(builtin="checker", rgb1=rgb1, rgb2=rgb1, mark="edge", markrgb=0.7 * rgb2),
+          dict(builtin="flat", rgb1=rgb1, rgb2=rgb1, mark="random", markrgb=0.8 * rgb2, random=0.3),
+          dict(builtin="gradient", rgb1=rgb1, rgb2=rgb2))
+
+
+def _colours(texture):
+  return texture.rgb1 if texture.rgb1 is not None else (0.8,) * 3, (
+      texture.rgb2 if texture.rgb2 is not None else (0.5,) * 3)
+
+
 _EXTRA_LIGHTS = (((-1.5, -1.5, 3.0), (0.4, 0.4, -1.0)), ((1.5, 1.5, 3.0), (-0.4, -0.4, -1.0)),
                  ((0.0, 2.0, 3.0), (0.0, -0.5, -1.0)), ((-2.0, 0.0, 3.0), (0.5, 0.0, -1.0)))
 
@@ -138,14 +146,19 @@ class SceneRandomizer(composer.Entity):
         self._lights.append(self._mjcf_root.worldbody.add(
             "light", name=f"extra_{i}", pos=pos, dir=direction, directional=True,
             diffuse=(0.3, 0.3, 0.3), castshadow=False))
+    # Floor and wall patterns keep the scene preset's colours, so presets stay recognisable.
+    root = arena.mjcf_model
+    floor_patterns = patterns(*_colours(root.find("texture", "floor_grid")))
     self._floor_materials = [self._pattern_material(f"floor_{i}", pattern, (8, 8))
-                             for i, pattern in enumerate(_FLOOR_PATTERNS)] if "floor" in factors else []
+                             for i, pattern in enumerate(floor_patterns)] if "floor" in factors else []
     self._wall_materials = []
     if "background" in factors:
+      walls = root.find("texture", "preset_wall") or root.find("texture", "skybox")
+      wall_patterns = patterns(*_colours(walls))
       self._wall_materials.append(presets.add_walls(
-          self._mjcf_root, "wall", _FLOOR_PATTERNS[0], presets.WALL_DISTANCE - 0.05))
+          self._mjcf_root, "wall", wall_patterns[0], presets.WALL_DISTANCE - 0.05))
       self._wall_materials += [self._pattern_material(f"wall_{i}", pattern, (6, 2))
-                               for i, pattern in enumerate(_FLOOR_PATTERNS[1:3])]
+                               for i, pattern in enumerate(wall_patterns[1:])]
     self._bind_variations()
 
   def _pattern_material(self, name, pattern, repeat):
@@ -183,7 +196,7 @@ class SceneRandomizer(composer.Entity):
         tint = colors.HsvVariation(_one(0.0, 1.0), _one(0.0, f.get("light_color", 0.0)), 1.0)
         bind(light, diffuse=noises.Multiplicative(scale * tint[:3]))
     for material in self._floor_materials + self._wall_materials:
-      bind(material, rgba=_random_color(value=(0.35, 1.0)))
+      bind(material, rgba=_random_color(saturation=(0.0, 0.4), value=(0.8, 1.0)))
     for material in self._part_materials():
       if "part_color" in f:
         bind(material, rgba=_random_color())
