@@ -57,7 +57,8 @@ def contact_sheet(furniture, scenes, seeds, randomize, camera, size, preassemble
 def main():
   parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
   parser.add_argument("--furniture", default=ikea_suite.DEFAULT_FURNITURE)
-  parser.add_argument("--scenes", nargs="+", default=presets.names(), help="scene presets (columns)")
+  parser.add_argument("--scenes", nargs="+", default=presets.names(),
+                      help="scene presets (columns)")
   parser.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2, 3], help="seeds (rows)")
   parser.add_argument("--randomize", nargs="*", default=["visual"],
                       help="randomization factors or groups (physics, visual, all); none for off")

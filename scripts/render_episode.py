@@ -23,7 +23,7 @@ import ikea_suite  # pylint: disable=g-import-not-at-top
 from ikea_suite.oracle import cursor_oracle  # pylint: disable=g-import-not-at-top
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
-from randomized_contact_sheet import write_png  # pylint: disable=g-import-not-at-top,wrong-import-position
+from randomized_contact_sheet import write_png  # pylint: disable=g-import-not-at-top
 
 
 def episode_frames(env, cameras, goal, max_steps):

@@ -62,7 +62,8 @@ def test_every_output_is_a_spec_valid_observable(gl):
       for kind in ("rgb", "depth", "segmentation"):
         for key in (f"cameras/{name}_{kind}", f"cameras/{name}_goal_{kind}"):
           spec[key].validate(timestep.observation[key])
-      spec[f"cameras/{name}_part_boxes"].validate(timestep.observation[f"cameras/{name}_part_boxes"])
+      boxes = f"cameras/{name}_part_boxes"
+      spec[boxes].validate(timestep.observation[boxes])
     timestep = env.step(np.zeros(env.action_spec().shape))
   observation = timestep.observation
   assert observation["cameras/front_rgb"].shape == (24, 40, 3)

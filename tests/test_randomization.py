@@ -101,8 +101,8 @@ def test_physics_factors_stay_in_their_ranges():
     gravities.add(float(gravity[2]))
     ratio = model.body_mass[bodies] / plain.physics.model.body_mass[bodies]
     assert np.all((ratio >= 1.5) & (ratio <= 2.0))
-    np.testing.assert_allclose(model.body_inertia[bodies] / plain.physics.model.body_inertia[bodies],
-                               np.repeat(ratio[:, None], 3, axis=1))
+    inertia_ratio = model.body_inertia[bodies] / plain.physics.model.body_inertia[bodies]
+    np.testing.assert_allclose(inertia_ratio, np.repeat(ratio[:, None], 3, axis=1))
     masses.add(tuple(ratio))
     friction = model.geom_friction[part_geoms, 0] / plain.physics.model.geom_friction[part_geoms, 0]
     assert np.all((friction >= 0.5) & (friction <= 0.6))
@@ -182,8 +182,8 @@ def test_preassembled_parts_start_welded_in_their_assembled_pose():
       a, b = int(table.part[con_a]), int(table.part[con_b])
       rel_pos, rel_rot = _relative_pose(env, a, b)
       design_rot = spec.parts[a].rot.T @ spec.parts[b].rot
-      np.testing.assert_allclose(rel_pos, spec.parts[a].rot.T @ (spec.parts[b].pos - spec.parts[a].pos),
-                                 atol=1e-6)
+      design_pos = spec.parts[a].rot.T @ (spec.parts[b].pos - spec.parts[a].pos)
+      np.testing.assert_allclose(rel_pos, design_pos, atol=1e-6)
       np.testing.assert_allclose(rel_rot, design_rot, atol=1e-6)
     for _ in range(20):   # the welds hold while the group settles
       env.step(np.zeros(env.action_spec().shape))

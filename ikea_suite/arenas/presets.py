@@ -50,7 +50,8 @@ PRESETS = {
     "lab": ScenePreset(
         sky=((0.85, 0.88, 0.92), (0.6, 0.62, 0.66)),
         floor=_tiles((0.55, 0.56, 0.58), (0.52, 0.53, 0.55), (0.4, 0.41, 0.43)),
-        floor_repeat=(16, 16), walls=_tiles((0.66, 0.67, 0.69), (0.64, 0.65, 0.67), (0.55, 0.56, 0.58)),
+        floor_repeat=(16, 16),
+        walls=_tiles((0.66, 0.67, 0.69), (0.64, 0.65, 0.67), (0.55, 0.56, 0.58)),
         ambient=(0.3, 0.31, 0.33), headlight=(0.35, 0.35, 0.37),
         lights=(Light((0.0, -1.0, 3.0), (0.0, 0.3, -1.0), (0.45, 0.47, 0.5), True),
                 Light((1.5, 1.5, 2.5), (-0.5, -0.5, -1.0), (0.2, 0.21, 0.23)))),
@@ -64,8 +65,8 @@ PRESETS = {
     # Warm wooden floor boards and beige walls.
     "interior": ScenePreset(
         sky=((0.9, 0.85, 0.75), (0.6, 0.55, 0.48)),
-        floor=dict(builtin="checker", rgb1=(0.36, 0.26, 0.17), rgb2=(0.33, 0.24, 0.15), mark="random",
-                   markrgb=(0.27, 0.19, 0.12), random=0.08),
+        floor=dict(builtin="checker", rgb1=(0.36, 0.26, 0.17), rgb2=(0.33, 0.24, 0.15),
+                   mark="random", markrgb=(0.27, 0.19, 0.12), random=0.08),
         floor_repeat=(2, 24), floor_reflectance=0.1,
         walls=_speckle((0.62, 0.58, 0.5), (0.58, 0.54, 0.47), 0.05),
         ambient=(0.3, 0.27, 0.24), headlight=(0.36, 0.33, 0.3),
@@ -75,7 +76,8 @@ PRESETS = {
     "industrial": ScenePreset(
         sky=((0.35, 0.38, 0.42), (0.12, 0.13, 0.15)),
         floor=_tiles((0.3, 0.31, 0.33), (0.26, 0.27, 0.29), (0.18, 0.18, 0.2)), floor_repeat=(6, 6),
-        floor_reflectance=0.15, walls=_tiles((0.28, 0.34, 0.4), (0.25, 0.3, 0.36), (0.2, 0.22, 0.25)),
+        floor_reflectance=0.15,
+        walls=_tiles((0.28, 0.34, 0.4), (0.25, 0.3, 0.36), (0.2, 0.22, 0.25)),
         ambient=(0.25, 0.24, 0.2), headlight=(0.4, 0.38, 0.3),
         lights=(Light((0.0, 0.0, 3.5), (0.0, 0.1, -1.0), (0.75, 0.6, 0.3), True),
                 Light((-2.0, -2.0, 2.0), (0.6, 0.6, -0.6), (0.2, 0.2, 0.25)))),
@@ -88,7 +90,8 @@ PRESETS = {
     # Even, shadowless light: bright headlight, no directional lights.
     "ambient": ScenePreset(
         sky=((0.8, 0.8, 0.8), (0.7, 0.7, 0.7)),
-        floor=dict(builtin="flat", rgb1=(0.6, 0.6, 0.6), rgb2=(0.6, 0.6, 0.6)), floor_reflectance=0.0,
+        floor=dict(builtin="flat", rgb1=(0.6, 0.6, 0.6), rgb2=(0.6, 0.6, 0.6)),
+        floor_reflectance=0.0,
         ambient=(0.6, 0.6, 0.6), headlight=(0.5, 0.5, 0.5), lights=None),
 }
 
@@ -143,8 +146,9 @@ def add_walls(root, name, texture, distance):
   material = root.asset.add("material", name=name, texture=tex, texrepeat=(6, 2),
                             texuniform=False)
   half = WALL_HEIGHT / 2
-  for i, (x, y, sx, sy) in enumerate(((0, distance, distance, 0.02), (0, -distance, distance, 0.02),
-                                      (distance, 0, 0.02, distance), (-distance, 0, 0.02, distance))):
+  sides = ((0, distance, distance, 0.02), (0, -distance, distance, 0.02),
+           (distance, 0, 0.02, distance), (-distance, 0, 0.02, distance))
+  for i, (x, y, sx, sy) in enumerate(sides):
     root.worldbody.add("geom", name=f"{name}_{i}", type="box", pos=(x, y, half),
                        size=(sx, sy, half), material=material, contype=0, conaffinity=0, group=1)
   return material

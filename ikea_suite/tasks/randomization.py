@@ -35,8 +35,8 @@ FACTORS = {
     "light_position": (0.5, "largest shift of each light's position and direction, m"),
     "light_color": (0.3, "largest saturation of each light's random hue (0: white)"),
     "light_intensity": ((0.6, 1.4), "multiplier of each light's brightness"),
-    "floor": (True, "floor pattern drawn among 4 procedural ones in the scene's colours, random tint"),
-    "background": (True, "backdrop walls, pattern drawn among 4 in the scene's colours, random tint"),
+    "floor": (True, "floor pattern among 4 procedural ones in the scene's colours, random tint"),
+    "background": (True, "backdrop walls, pattern among 4 in the scene's colours, random tint"),
     "part_color": (True, "a random colour for each part"),
     "part_material": (True, "random specular, shininess and reflectance of each part"),
     "camera_jitter": (0.05, "largest shift of each arena camera and its look-at point, m"),
@@ -149,8 +149,10 @@ class SceneRandomizer(composer.Entity):
     # Floor and wall patterns keep the scene preset's colours, so presets stay recognisable.
     root = arena.mjcf_model
     floor_patterns = patterns(*_colours(root.find("texture", "floor_grid")))
-    self._floor_materials = [self._pattern_material(f"floor_{i}", pattern, (8, 8))
-                             for i, pattern in enumerate(floor_patterns)] if "floor" in factors else []
+    self._floor_materials = []
+    if "floor" in factors:
+      self._floor_materials = [self._pattern_material(f"floor_{i}", pattern, (8, 8))
+                               for i, pattern in enumerate(floor_patterns)]
     self._wall_materials = []
     if "background" in factors:
       walls = root.find("texture", "preset_wall") or root.find("texture", "skybox")
@@ -246,7 +248,7 @@ OPTIONS = ("randomize",)
 
 
 def attach(task, randomize=None):
-  """Attaches a SceneRandomizer for `randomize` (see `parse`) to the task's arena, if any factor is on."""
+  """Attaches a SceneRandomizer for `randomize` (see `parse`) when any factor is on."""
   factors = parse(randomize)
   if not factors:
     return None
