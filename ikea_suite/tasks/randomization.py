@@ -133,7 +133,7 @@ def _check(name, value):
 
 
 class SceneRandomizer(composer.Entity):
-  """Applies the chosen factors to the arena, furniture and robot every episode."""
+  """Applies the chosen factors to the arena and the furniture at every episode start."""
 
   def _build(self, arena, furniture, factors):
     self._mjcf_root = mjcf.RootElement(model="randomizer")
