@@ -41,18 +41,23 @@ def test_unknown_control_mode_lists_valid_ones():
 
 
 @pytest.mark.parametrize("robot", ARMS)
-def test_home_pose_points_tool_down_within_reach_of_parts(robot):
+def test_home_pose_points_tool_down_and_parts_lie_within_reach(robot):
   env = ikea_suite.load("table_four_leg_lack", robot, seed=1)
-  env.reset()
   arm = env.task.robot
   base_pos, _ = arm.base_pose
-  for i in range(arm.num_arms):
-    pos, rot = arm.tcp_pose(env.physics, i)
-    assert rot[2, 2] < -0.99, "tool should point down at home"
-    assert 0.2 < pos[2] < 0.5
-  parts, _ = env.task.furniture.part_poses(env.physics)
-  distance = np.linalg.norm(parts[:, :2] - base_pos[:2], axis=1)
-  assert np.all(distance < arm.REACH + 0.01)
+  within = []
+  for _ in range(10):
+    env.reset()
+    for i in range(arm.num_arms):
+      pos, rot = arm.tcp_pose(env.physics, i)
+      assert rot[2, 2] < -0.99, "tool should point down at home"
+      assert 0.2 < pos[2] < 0.5
+    parts, _ = env.task.furniture.part_poses(env.physics)
+    distance = np.linalg.norm(parts[:, :2] - base_pos[:2], axis=1)
+    assert distance[env.task.root_part] < arm.REACH   # the part everything is built onto
+    assert np.all(distance > 0.5)                      # nothing under the arm's base
+    within.extend(distance < arm.REACH + 0.01)
+  assert np.mean(within) > 0.9   # a crowded ring spills a few parts outwards
 
 
 @pytest.mark.parametrize("robot", ("sawyer", "jaco", "baxter"))

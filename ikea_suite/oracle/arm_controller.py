@@ -64,7 +64,7 @@ class ArmAssemblyController:
   """Call with a TimeStep (or nothing); returns the action for `env`."""
 
   def __init__(self, env, arm=0, hover=0.12, lift=0.45, carry=0.5, approach=0.08, tolerance=0.5,
-               close_steps=8, release_steps=6):
+               close_steps=8, release_steps=6, stall_steps=100):
     robot = env.task.robot
     if getattr(robot, "control_mode", None) != control_modes.TASK_SPACE:
       raise errors.IkeaSuiteError(
@@ -73,6 +73,7 @@ class ArmAssemblyController:
     self._hover, self._lift, self._carry, self._approach = hover, lift, carry, approach
     self._tolerance = tolerance
     self._close_steps, self._release_steps = close_steps, release_steps
+    self._stall_steps = stall_steps
     self.reset()
 
   def reset(self):
@@ -82,6 +83,14 @@ class ArmAssemblyController:
     self._job = None   # (pair, moving part)
     self._grasp = None   # (position, rotation) of the tool at the grasp
     self._plan = None   # (pair, twist) the held part is brought to
+    self._grasp_sign = 1.0   # which of the two symmetric grasps
+    self._unreachable = set()   # parts the arm stalled on; skipped until the next connection
+    self._stalled = 0
+
+  @property
+  def job(self):
+    """(connector pair, moving part) being worked on, or None."""
+    return self._job
 
   # -- choosing work -----------------------------------------------------------------
 
@@ -102,6 +111,8 @@ class ArmAssemblyController:
           part_xy = positions[table.part[moving]][:2]
           distance = (np.linalg.norm(cpos[fixed][:2] - base[:2])
                       + np.linalg.norm(part_xy - base[:2]))   # reachable slot, then near part
+          if table.part[moving] in self._unreachable:
+            continue
           if best is None or distance < best[0]:
             best = (distance, int(pair), int(table.part[moving]))
     return None if best is None else best[1:]
@@ -116,7 +127,7 @@ class ArmAssemblyController:
     axis[2] = 0.0
     return axis / np.linalg.norm(axis)
 
-  def _grasp_pose(self, part):
+  def _grasp_pose(self, part, sign=None):
     """Tool pose at the part's grasp point: pointing down, fingers across its long axis."""
     physics, furniture = self._env.physics, self._env.task.furniture
     point = targets.grasp_point(physics, furniture, part)
@@ -127,12 +138,21 @@ class ArmAssemblyController:
     if np.linalg.norm(long_axis) < 1e-6:   # standing part: any horizontal closing axis
       long_axis = np.array([1.0, 0.0, 0.0])
     long_axis /= np.linalg.norm(long_axis)
-    closing = np.cross([0.0, 0.0, 1.0], long_axis)
-    closing_local = self._closing_local()
-    _, tool = self._robot.tcp_pose(physics, self._arm)
-    if np.dot(tool @ closing_local, closing) < 0:
-      closing = -closing   # the nearer of the two symmetric grasps
-    return point, tool_rotation(np.array([0.0, 0.0, -1.0]), closing, closing_local)
+    closing = np.cross([0.0, 0.0, 1.0], long_axis) * (self._grasp_sign if sign is None else sign)
+    return point, tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self._closing_local())
+
+  def _choose_grasp_sign(self, moving):
+    """Which of the two symmetric grasps leaves the arm the easier mating motion."""
+    physics, furniture = self._env.physics, self._env.task.furniture
+    part_pos, part_rot = targets.part_pose(physics, furniture, moving)
+    best = None
+    for sign in (1.0, -1.0):
+      point, rot = self._grasp_pose(moving, sign)
+      grip = (part_rot.T @ (point - part_pos), part_rot.T @ rot)
+      plan = self._plan_mating(moving, grip)
+      if plan is not None and (best is None or plan[0] < best[0]):
+        best = (plan[0], sign)
+    return 1.0 if best is None else best[1]
 
   def _part_goal(self, pair, moving, twist):
     """Pose of `moving` that makes the pair's connectors coincide at `twist`; plus approach side."""
@@ -149,13 +169,20 @@ class ArmAssemblyController:
     side = pos - cpos[fixed_con]
     return pos, rot, side / max(np.linalg.norm(side), 1e-6)
 
-  def _plan_mating(self, moving):
-    """(pair, twist) for the held part: the mate and twist the arm reaches best (IK check)."""
+  def _plan_mating(self, moving, grip=None):
+    """(score, pair, twist) for the held part: the mate and twist the arm reaches best.
+
+    Each candidate's pre-insertion tool pose is solved by IK; misses, joint travel,
+    joints near their limits and a wrist cramped beside the base cost. `grip`
+    (tool pose in the part frame) defaults to the measured one.
+    """
     task, physics, robot = self._env.task, self._env.physics, self._robot
     table, state = task.furniture.connectors, task.state
     groups = state.group_labels()
     ik = robot._ik
     q = physics.data.qpos[robot._ik_to_qpos].copy()
+    arm_q = ik.qpos_index[robot._arm_ik[self._arm]]
+    low, high = robot._joint_low[self._arm], robot._joint_high[self._arm]
     base_pos, base_rot = robot.base_pose
     best = None
     for pair in np.flatnonzero(planner.open_pairs(table, state)):
@@ -167,25 +194,32 @@ class ArmAssemblyController:
       for twist in twists:
         part_pos, part_rot, side = self._part_goal(pair, moving, twist)
         goal_pos, goal_rot = self._tool_goal_for_part(
-            moving, part_pos + self._approach * side, part_rot)
+            moving, part_pos + self._approach * side, part_rot, grip)
         target = (base_rot.T @ (goal_pos - base_pos), base_rot.T @ goal_rot)
-        solution = ik.solve(q, [target], iterations=60)
+        solution = ik.solve(q, [target], iterations=40)
+        margin = np.minimum(solution[arm_q] - low, high - solution[arm_q])
         pos, rot = ik.tcp_poses(solution)[0]
         miss = (np.linalg.norm(pos - target[0])
                 + 0.2 * np.linalg.norm(geometry.mat_to_axis_angle(rot @ target[1].T)))
         part_xy = task.furniture.part_poses(physics)[0][moving][:2]
-        score = (miss + 0.02 * np.linalg.norm(solution - q)
+        # A wrist folded in beside the base is cramped: the differential IK stalls there.
+        wrist = goal_pos - 0.25 * goal_rot[:, 2]
+        cramped = max(0.0, 0.45 - np.linalg.norm(wrist[:2] - base_pos[:2]))
+        score = (miss + 0.02 * np.linalg.norm(solution - q) + 2.0 * cramped
+                 + np.maximum(0.0, 0.3 - margin).sum()
                  + 0.3 * np.linalg.norm(goal_pos[:2] - part_xy))   # prefer mates nearby
         if best is None or score < best[0]:
           best = (score, int(pair), float(twist))
-    return None if best is None else best[1:]
+    return best
 
-  def _tool_goal_for_part(self, part, part_goal_pos, part_goal_rot):
-    """Tool pose that puts the held part at the goal, using the measured grip."""
-    physics, furniture = self._env.physics, self._env.task.furniture
-    part_pos, part_rot = targets.part_pose(physics, furniture, part)
-    tcp_pos, tcp_rot = self._robot.tcp_pose(physics, self._arm)
-    grip_pos, grip_rot = part_rot.T @ (tcp_pos - part_pos), part_rot.T @ tcp_rot
+  def _tool_goal_for_part(self, part, part_goal_pos, part_goal_rot, grip=None):
+    """Tool pose that puts the held part at the goal, using the measured grip by default."""
+    if grip is None:
+      physics, furniture = self._env.physics, self._env.task.furniture
+      part_pos, part_rot = targets.part_pose(physics, furniture, part)
+      tcp_pos, tcp_rot = self._robot.tcp_pose(physics, self._arm)
+      grip = part_rot.T @ (tcp_pos - part_pos), part_rot.T @ tcp_rot
+    grip_pos, grip_rot = grip
     return part_goal_pos + part_goal_rot @ grip_pos, part_goal_rot @ grip_rot
 
   def _holding(self, part):
@@ -207,9 +241,12 @@ class ArmAssemblyController:
     if len(task.state.connections) != self._connections:
       self._connections = len(task.state.connections)
       self.phase, self._counter = Phase.RELEASE, 0
+      self._unreachable = set()
     if self._job is None or self.phase == Phase.REACH and self._counter == 0:
       self._job = self._choose_job()
       self._counter = 1
+      if self._job is not None:
+        self._grasp_sign = self._choose_grasp_sign(self._job[1])
     if self._job is None and self.phase not in (Phase.RELEASE, Phase.RETREAT):
       return action
     pair, moving = self._job if self._job else (None, None)
@@ -218,12 +255,20 @@ class ArmAssemblyController:
     if phase in (Phase.REACH, Phase.DESCEND):
       point, rot = self._grasp_pose(moving)
       goal = point + [0.0, 0.0, self._hover] if phase == Phase.REACH else point
-      poses[:] = pose_action(robot, physics, arm, goal, rot)
+      waypoint = self._arc_waypoint(goal) if phase == Phase.REACH else goal
+      poses[:] = pose_action(robot, physics, arm, waypoint, rot)
       distance, angle = pose_error(robot, physics, arm, goal, rot)
-      if phase == Phase.REACH and distance < 0.02 and angle < 0.05:
+      self._stalled += 1
+      if self._stalled > self._stall_steps:   # cannot get there: try another part
+        self._unreachable.add(moving)
+        self.phase, self._counter, self._stalled = Phase.RETREAT, 0, 0
+        self._grasp = self._robot.home_tcp_poses()[arm]   # back home before the next part
+        if len(self._unreachable) >= len(task.furniture.parts):
+          self._unreachable = set()
+      elif phase == Phase.REACH and distance < 0.02 and angle < 0.05:
         self.phase = Phase.DESCEND
       elif phase == Phase.DESCEND and distance < 0.006 and angle < 0.05:
-        self.phase, self._counter = Phase.CLOSE, 0
+        self.phase, self._counter, self._stalled = Phase.CLOSE, 0, 0
         self._grasp = (goal, rot)
     elif phase == Phase.CLOSE:
       poses[:] = pose_action(robot, physics, arm, *self._grasp)
@@ -241,7 +286,9 @@ class ArmAssemblyController:
         return action
       if self._plan is None:
         self._plan, self._carrying = self._plan_mating(moving), True
-        if self._plan is None:
+        if self._plan is not None:
+          self._plan = self._plan[1:]
+        else:
           self.phase, self._counter = Phase.REACH, 0
           return action
       pair, twist = self._plan

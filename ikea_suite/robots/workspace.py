@@ -38,8 +38,8 @@ def mates_from_below(spec, table, root):
 class ReachableParts(composer.Initializer):
   """Root part in front of the base, the rest in a ring around it; random yaw and position."""
 
-  def __init__(self, furniture, base_xy, base_rot, reach, inner=0.2, min_distance=0.5, gap=0.03,
-               root_jitter=(0.03, np.radians(15)), sector=np.radians(135), max_attempts=200):
+  def __init__(self, furniture, base_xy, base_rot, reach, inner=0.2, min_distance=0.55, gap=0.03,
+               root_jitter=(0.03, np.radians(15)), sector=np.radians(110), max_attempts=200):
     self._furniture = furniture
     self._base_xy = np.asarray(base_xy, dtype=float)
     self._heading = np.arctan2(base_rot[1, 0], base_rot[0, 0])

@@ -1,0 +1,81 @@
+"""Arms grasp by contact and friction: no weld holds a lifted part; the scripted Sawyer connects."""
+
+import numpy as np
+import pytest
+
+import ikea_suite
+from ikea_suite.oracle import arm_controller
+from ikea_suite.oracle import targets
+
+Phase = arm_controller.Phase
+
+
+def _run_until(env, controller, phase, max_steps=400):
+  for _ in range(max_steps):
+    if controller.phase == phase:
+      return
+    env.step(controller())
+  raise AssertionError(f"controller never reached {phase}; stuck in {controller.phase}")
+
+
+def test_sawyer_lifts_a_leg_by_friction_and_holds_it_two_seconds_while_moving():
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=3)
+  env.reset()
+  controller = arm_controller.ArmAssemblyController(env)
+  _run_until(env, controller, Phase.ALIGN)   # reached, descended, closed, lifted
+  physics, robot, furniture = env.physics, env.task.robot, env.task.furniture
+  leg = controller.job[1]
+  assert not physics.data.eq_active.any(), "no weld may hold the part"
+
+  def leg_in_tool():
+    pos, rot = targets.part_pose(physics, furniture, leg)
+    tcp_pos, tcp_rot = robot.tcp_pose(physics)
+    return tcp_rot.T @ (pos - tcp_pos)
+
+  start = leg_in_tool()
+  start_tcp, _ = robot.tcp_pose(physics)
+  heights, tcp_path = [], []
+  steps = int(round(2.0 / env.control_timestep()))
+  for k in range(steps):   # two seconds: a circle in the horizontal plane plus a wrist twist
+    phase = 2 * np.pi * k / steps
+    action = np.zeros(env.action_spec().shape)
+    action[:2] = 0.5 * np.array([-np.sin(phase), np.cos(phase)])
+    action[5] = 0.5 * np.cos(phase)
+    action[6] = 1.0   # keep squeezing
+    env.step(action)
+    heights.append(targets.part_pose(physics, furniture, leg)[0][2])
+    tcp_path.append(robot.tcp_pose(physics)[0])
+  assert np.ptp(np.array(tcp_path)[:, :2], axis=0).max() > 0.1   # the arm really moved
+  assert min(heights) > 0.3
+  assert np.linalg.norm(leg_in_tool() - start) < 0.02   # no slip in the fingers
+  assert not physics.data.eq_active.any()
+
+  action = np.zeros(env.action_spec().shape)
+  action[6] = -1.0   # open: friction was all that held it
+  for _ in range(20):
+    env.step(action)
+  assert targets.part_pose(physics, furniture, leg)[0][2] < 0.1
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_scripted_sawyer_connects_the_first_leg_from_random_starts(seed):
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=seed)
+  timestep = env.reset()
+  controller = arm_controller.ArmAssemblyController(env)
+  rewards = []
+  for _ in range(500):
+    timestep = env.step(controller(timestep))
+    rewards.append(timestep.reward)
+    if env.task.state.connections:
+      break
+  assert len(env.task.state.connections) == 1
+  assert rewards[-1] == pytest.approx(1.0)   # the connection reward, through the agent's connect
+  top = env.task.root_part
+  leg = controller.job[1]
+  assert env.task.state.same_group(top, leg)
+
+
+def test_controller_requires_task_space_mode():
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", control_mode="joint_position")
+  with pytest.raises(ikea_suite.IkeaSuiteError, match="task_space"):
+    arm_controller.ArmAssemblyController(env)
