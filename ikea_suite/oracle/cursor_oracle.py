@@ -1,10 +1,12 @@
 """A scripted Cursor policy that assembles any furniture from privileged state.
 
 Cursor 0 lifts the root part to its assembled pose (raised by `lift`) and
-holds it there. Cursor 1 fetches the planner's next part: grab, raise, fly
-to a staging point outside the assembly, approach along the connector's
-side, align, and issue connect. It emits the same 15-number action a learning
-agent does; nothing is moved by hand.
+holds it there. Cursor 1 brings the other parts in the order of an assembly
+sequence found by disassembly (ikea_suite.design.sequence): grab a part,
+raise it, carry it round the outside of the furniture while turning it to its
+assembled orientation, then follow the part's free insertion path in and
+issue connect. It emits the same 15-number action a learning agent does;
+nothing is moved by hand.
 """
 
 import enum
@@ -12,38 +14,48 @@ import enum
 import numpy as np
 
 from ikea_suite import geometry
+from ikea_suite.design import sequence
 from ikea_suite.oracle import targets
-from ikea_suite.tasks import planner
 
 _PER_CURSOR = 7
+_TRAVEL_TOL = 0.05     # metres: pass a travel point this close
+_PATH_TOL = (0.012, 0.04)   # metres, radians: reach insertion-path points this close
+_HOLD_GAIN = 1.0
+_INTEGRAL = 0.05       # per step: how fast a held part's standing error is taken out
+_MAX_BIAS = (0.05, 0.15)   # metres, radians
+_STUCK_STEPS = 80      # steps without progress at one target before backing off
 
 
 class Phase(enum.Enum):
   REACH = "reach"       # fly the empty cursor to the part's grasp point
   RAISE = "raise"       # hold the part and lift it clear of the floor
-  STAGE = "stage"       # carry it to a point outside the assembly, rotated to fit
-  APPROACH = "approach" # move in to just short of the mating pose
-  INSERT = "insert"     # close the last gap and connect
+  TRAVEL = "travel"     # carry it round the furniture, turning it, to its insertion path
+  INSERT = "insert"     # follow the insertion path in and connect
 
 
 class CursorOracle:
   """Call with a TimeStep; returns an action for `env` (an ikea_suite cursor environment)."""
 
-  def __init__(self, env, lift=0.15, approach=0.10, stage=0.30, gain=0.6, tolerance=0.5):
+  def __init__(self, env, lift=0.15, gain=1.0, tolerance=0.5, clearance=0.12):
     self._env = env
-    self._lift, self._approach, self._stage, self._gain = lift, approach, stage, gain
+    self._lift, self._gain, self._clearance = lift, gain, clearance
     self._tolerance = tolerance   # fraction of each threshold to reach before connecting
     self.reset()
 
   def reset(self):
     self._phase = Phase.REACH
     self._base_phase = Phase.REACH
-    self._connections = 0
+    self._plan = None
+    self._part = None
+    self._points, self._point = [], 0
+    self._best, self._since_best = np.inf, 0
+    self._bias = [(np.zeros(3), np.zeros(3)) for _ in range(2)]
 
   # -- low-level drives --------------------------------------------------------
 
   def _cursor(self, i):
-    return self._env.task.robot.cursor_pose(self._env.physics, i)
+    pos, rot = self._env.task.robot.cursor_pose(self._env.physics, i)
+    return np.array(pos), rot
 
   def _move_to(self, action, i, target):
     robot = self._env.task.robot
@@ -51,119 +63,205 @@ class CursorOracle:
     step = robot._move_speed * self._env.control_timestep()
     action[i * _PER_CURSOR:i * _PER_CURSOR + 3] = np.clip(self._gain * (target - pos) / step, -1, 1)
 
-  def _drive_part(self, action, i, part, target_pos, target_rot):
-    """Cursor i moves and turns so that the part it holds reaches the target pose."""
-    physics, task = self._env.physics, self._env.task
-    robot, dt = task.robot, self._env.control_timestep()
-    part_pos, part_rot = targets.part_pose(physics, task.furniture, part)
-    rot_error = geometry.mat_to_axis_angle(target_rot @ part_rot.T)
-    rot_cmd = np.clip(self._gain * rot_error / (robot._rotate_speed * dt), -1, 1)
-    turn = geometry.axis_angle_to_mat(rot_cmd * robot._rotate_speed * dt)
-    cursor_pos, _ = self._cursor(i)
-    # Turning about the cursor also swings the part; move the cursor to cancel that.
-    swing = (turn - np.eye(3)) @ (part_pos - cursor_pos)
-    move = self._gain * (target_pos - part_pos) - swing
+  def _drive_part(self, action, i, part, target_pos, target_rot, gain=None):
+    """Cursor i moves and turns so that the part it holds reaches the target pose.
+
+    The cursor is steered to the pose that puts its grip's target on the goal
+    (feed-forward: the part trails the cursor through a soft weld, so servoing
+    on the part itself would swing heavy parts). A slow integral term then
+    takes out what gravity and contacts leave (the part sagging in the grip).
+    """
+    physics, robot, dt = self._env.physics, self._env.task.robot, self._env.control_timestep()
+    part_pos, part_rot = targets.part_pose(physics, self._env.task.furniture, part)
+    error_pos = target_pos - part_pos
+    error_rot = geometry.mat_to_axis_angle(target_rot @ part_rot.T)
+    bias_pos, bias_rot = self._bias[i]
+    if np.linalg.norm(error_pos) < 0.05 and np.linalg.norm(error_rot) < 0.15:
+      bias_pos = np.clip(bias_pos + _INTEGRAL * error_pos, -_MAX_BIAS[0], _MAX_BIAS[0])
+      bias_rot = np.clip(bias_rot + _INTEGRAL * error_rot, -_MAX_BIAS[1], _MAX_BIAS[1])
+      self._bias[i] = (bias_pos, bias_rot)
+    goal_rot = geometry.axis_angle_to_mat(bias_rot) @ target_rot @ robot._grip_rot[i].T
+    cursor_pos, cursor_rot = self._cursor(i)
+    turn_cmd = np.clip(geometry.mat_to_axis_angle(goal_rot @ cursor_rot.T)
+                       / (robot._rotate_speed * dt), -1, 1)
+    next_rot = geometry.axis_angle_to_mat(turn_cmd * robot._rotate_speed * dt) @ cursor_rot
+    goal_pos = target_pos + bias_pos - next_rot @ robot._grip_pos[i]
+    move = (goal_pos - cursor_pos) * (self._gain if gain is None else gain)
     base = i * _PER_CURSOR
     action[base:base + 3] = np.clip(move / (robot._move_speed * dt), -1, 1)
-    action[base + 3:base + 6] = rot_cmd
-    return np.linalg.norm(target_pos - part_pos), np.linalg.norm(rot_error)
+    action[base + 3:base + 6] = turn_cmd
+    return np.linalg.norm(error_pos), np.linalg.norm(error_rot)
 
   def _holds(self, i, part):
     held = self._env.task.robot.held_parts[i]
     return held >= 0 and self._env.task.state.same_group(held, part)
 
-  # -- the two cursors' jobs ---------------------------------------------------
+  def _fetch(self, action, i, part):
+    """Flies cursor i to the part and grabs it; returns True once it holds `part`."""
+    if self._holds(i, part):
+      action[i * _PER_CURSOR + 6] = 1.0
+      return True
+    self._bias[i] = (np.zeros(3), np.zeros(3))
+    if self._env.task.robot.held_parts[i] >= 0:
+      return False   # select stays off this step: let go of the other part first
+    point = targets.grasp_point(self._env.physics, self._env.task.furniture, part)
+    self._move_to(action, i, point)
+    if np.linalg.norm(point - self._cursor(i)[0]) < 0.01:
+      action[i * _PER_CURSOR + 6] = 1.0
+    return False
+
+  def _raise_height(self, part):
+    return targets.part_radius(self._env.task.furniture, part) + 0.05
+
+  # -- cursor 0: the root part -------------------------------------------------
 
   def _base_target(self):
     spec = self._env.task.furniture.spec.parts[self._env.task.root_part]
     return spec.pos + np.array([0.0, 0.0, self._lift]), spec.rot
 
-  def _fetch(self, action, i, part, raise_height=None):
-    """REACH then grab; returns True once cursor i holds `part`."""
-    physics, furniture = self._env.physics, self._env.task.furniture
-    if self._holds(i, part):
-      action[i * _PER_CURSOR + 6] = 1.0
-      return True
-    point = targets.grasp_point(physics, furniture, part)
-    self._move_to(action, i, point)
-    pos, _ = self._cursor(i)
-    if np.linalg.norm(point - pos) < 0.01:
-      action[i * _PER_CURSOR + 6] = 1.0
-    return False
-
-  def _raise_height(self, part):
-    bounds = self._env.task.furniture.spec.parts[part].bounds
-    return 0.5 * np.linalg.norm(bounds[1] - bounds[0]) + 0.05
-
   def _hold_base(self, action):
-    """Cursor 0: fetch the root part, raise it, bring it to the assembly pose; True when there."""
+    """Fetches the root part, raises it, brings it to the assembly pose; True when there."""
     root = self._env.task.root_part
     if not self._fetch(action, 0, root):
       self._base_phase = Phase.REACH
       return False
-    action[6] = 1.0
     physics, furniture = self._env.physics, self._env.task.furniture
     pos, rot = targets.part_pose(physics, furniture, root)
-    target_pos, target_rot = self._base_target()
     if self._base_phase == Phase.REACH:
       self._base_phase = Phase.RAISE
     if self._base_phase == Phase.RAISE:
       height = self._raise_height(root)
       self._drive_part(action, 0, root, np.array([pos[0], pos[1], max(height, pos[2])]), rot)
       if pos[2] > height - 0.02:
-        self._base_phase = Phase.STAGE
+        self._base_phase = Phase.TRAVEL
       return False
-    distance, angle = self._drive_part(action, 0, root, target_pos, target_rot)
-    return distance < 0.02 and angle < 0.05
+    target_pos, target_rot = self._base_target()
+    distance = np.linalg.norm(target_pos - pos)
+    angle = np.linalg.norm(geometry.mat_to_axis_angle(target_rot @ rot.T))
+    # Once there the root is only nudged back slowly: servoing a heavy, softly held
+    # assembly hard on its own pose makes it swing. Parts are placed relative to
+    # wherever the root is, so a little sag does no harm.
+    if self._base_phase == Phase.INSERT and distance < 0.1 and angle < 0.2:
+      self._drive_part(action, 0, root, target_pos, target_rot, gain=_HOLD_GAIN)
+      return True
+    self._base_phase = Phase.TRAVEL
+    self._drive_part(action, 0, root, target_pos, target_rot)
+    if distance < 0.01 and angle < 0.03:
+      self._base_phase = Phase.INSERT
+    return False
 
-  def _bring_part(self, action, pair, moving, base_ready):
-    """Cursor 1: carry `moving` to its mating pose; returns True when it should connect."""
+  # -- cursor 1: the next part ---------------------------------------------------
+
+  def _sequence(self):
+    if self._plan is None:
+      task = self._env.task
+      self._plan = sequence.plan(task.furniture.spec.path, task.root_part, self._lift)
+    return self._plan
+
+  def _next_step(self):
+    """The first planned insertion whose part is not yet joined to the root, or None."""
+    state, root = self._env.task.state, self._env.task.root_part
+    return next((s for s in self._sequence() if not state.same_group(s.part, root)), None)
+
+  def _path_pose(self, step, k):
+    """World pose of insertion-path point k of `step`, following the root as it is now."""
     physics, task = self._env.physics, self._env.task
-    if not self._fetch(action, 1, moving):
+    goal_pos, goal_rot = targets.assembled_pose(physics, task.furniture, task.root_part, step.part)
+    rotation, _ = targets.design_to_world(physics, task.furniture, task.root_part)
+    return goal_pos + rotation @ np.asarray(step.waypoints[k]), goal_rot
+
+  def _plan_route(self, step):
+    """Travel points (world position, rotation) and then the insertion path (its indices)."""
+    physics, task = self._env.physics, self._env.task
+    furniture, root = task.furniture, task.root_part
+    entry, goal_rot = self._path_pose(step, 0)
+    centre, radius = targets.assembly_circle(physics, furniture, root)
+    reach = radius + targets.part_radius(furniture, step.part) + self._clearance
+    start, start_rot = targets.part_pose(physics, furniture, step.part)
+    travel = targets.route(start, entry, centre, reach, start[2])
+    # Keep the part's orientation on the way out; turn it once outside the circle.
+    points = [(travel[0], start_rot)] + [(p, goal_rot) for p in travel[1:-1]]
+    return points + list(range(len(step.waypoints)))
+
+  def _bring_part(self, action, step, base_ready):
+    """Cursor 1 carries the step's part along its route; returns True when it should connect."""
+    physics, task = self._env.physics, self._env.task
+    part = step.part
+    if self._part != part:
+      self._part, self._phase = part, Phase.REACH
+    if not self._fetch(action, 1, part):
       self._phase = Phase.REACH
       return False
     action[13] = 1.0
+    pos, rot = targets.part_pose(physics, task.furniture, part)
     if self._phase == Phase.REACH:
       self._phase = Phase.RAISE
-    pos, rot = targets.part_pose(physics, task.furniture, moving)
     if self._phase == Phase.RAISE:
-      height = self._raise_height(moving)
-      self._drive_part(action, 1, moving, np.array([pos[0], pos[1], max(height, pos[2])]), rot)
+      height = self._raise_height(part)
+      self._drive_part(action, 1, part, np.array([pos[0], pos[1], max(height, pos[2])]), rot)
       if pos[2] > height - 0.02 and base_ready:
-        self._phase = Phase.STAGE
+        self._points, self._point = self._plan_route(step), 0
+        self._best, self._since_best = np.inf, 0
+        self._phase = Phase.TRAVEL
       return False
-    target_pos, target_rot, side = targets.mating_target(physics, task.furniture, pair, moving)
-    pre = target_pos + self._approach * side
-    outward = np.array([target_pos[0], target_pos[1], 0.0]) - np.append(self._base_target()[0][:2], 0)
-    outward = outward / max(np.linalg.norm(outward), 1e-6)
-    goals = {Phase.STAGE: (pre + self._stage * outward, 0.05, 0.2),
-             Phase.APPROACH: (pre, 0.02, 0.05),
-             Phase.INSERT: (target_pos, None, None)}
-    goal, pos_tol, rot_tol = goals[self._phase]
-    distance, angle = self._drive_part(action, 1, moving, goal, target_rot)
-    if self._phase == Phase.STAGE and distance < pos_tol and angle < rot_tol:
-      self._phase = Phase.APPROACH
-    elif self._phase == Phase.APPROACH and distance < pos_tol and angle < rot_tol:
+    point = self._points[self._point]
+    exact = isinstance(point, int)
+    target, target_rot = self._path_pose(step, point) if exact else point
+    distance, angle = self._drive_part(action, 1, part, target, target_rot)
+    last = self._point == len(self._points) - 1
+    if last:
+      return self._insert(action, part, distance)
+    if exact:
       self._phase = Phase.INSERT
-    elif self._phase == Phase.INSERT:
-      scores = task.alignment(physics)
-      t = task.thresholds
-      return bool(scores.distance[pair] < self._tolerance * t.distance
-                  and scores.up_cos[pair] > 1 - self._tolerance * (1 - t.up_cos)
-                  and scores.forward_cos[pair] > 1 - self._tolerance * (1 - t.forward_cos))
+      if distance < _PATH_TOL[0] and angle < _PATH_TOL[1]:
+        self._advance()
+      else:
+        self._watch(distance)
+    elif distance < _TRAVEL_TOL:
+      self._advance()
+    return False
+
+  def _advance(self):
+    self._point += 1
+    self._best, self._since_best = np.inf, 0
+
+  def _watch(self, distance):
+    """Backs off one point when the part has stopped getting closer (it is caught)."""
+    if distance < self._best - 0.002:
+      self._best, self._since_best = distance, 0
+      return
+    self._since_best += 1
+    if self._since_best > _STUCK_STEPS and self._point > 0:
+      self._point -= 1
+      self._best, self._since_best = np.inf, 0
+
+  def _insert(self, action, part, distance):
+    """At the goal: connect once some pair of the moving part is well aligned."""
+    task, physics = self._env.task, self._env.physics
+    scores = task.alignment(physics)
+    t = task.thresholds
+    table = task.furniture.connectors
+    involves = (table.part[table.pair_a] == part) | (table.part[table.pair_b] == part)
+    ready = (involves & (scores.distance < self._tolerance * t.distance)
+             & (scores.up_cos > 1 - self._tolerance * (1 - t.up_cos))
+             & (scores.forward_cos > 1 - self._tolerance * (1 - t.forward_cos)))
+    if ready.any():
+      return True
+    self._watch(distance)
     return False
 
   def __call__(self, timestep=None):
-    task = self._env.task
     action = np.zeros(self._env.action_spec().shape)
-    if len(task.state.connections) != self._connections:
-      self._connections = len(task.state.connections)
-      self._phase = Phase.REACH
-    suggestion = planner.next_pair(task.furniture.connectors, task.state, task.root_part)
     base_ready = self._hold_base(action)
-    if suggestion is None:
+    step = self._next_step()
+    if step is None:
       return action
-    pair, moving, _ = suggestion
-    if self._bring_part(action, pair, moving, base_ready):
+    if self._bring_part(action, step, base_ready):
       action[-1] = 1.0
     return action
+
+
+def episode_options(name):
+  """load() options under which the oracle is expected to assemble `name`."""
+  del name
+  return {"time_limit": 600.0, "workspace": ((-4.0, -4.0, 0.0), (4.0, 4.0, 3.0))}

@@ -1,10 +1,10 @@
-"""Target poses the oracle drives parts to, computed from privileged state."""
+"""Target poses and routes the oracle drives parts along, computed from privileged state."""
 
 import numpy as np
 
 from ikea_suite import geometry
 
-_ANY_TWIST_GRID = np.radians(np.arange(0, 360, 15))
+_ARC_STEP = np.radians(30)
 
 
 def part_pose(physics, furniture, part):
@@ -22,6 +22,69 @@ def grasp_point(physics, furniture, part):
   return data.geom_xpos[g] + data.geom_xmat[g].reshape(3, 3) @ model.geom_aabb[g, :3]
 
 
+def design_to_world(physics, furniture, root):
+  """The rigid map (rotation, translation) taking the design frame to where the root is now."""
+  spec = furniture.spec.parts[root]
+  pos, rot = part_pose(physics, furniture, root)
+  rotation = rot @ spec.rot.T
+  return rotation, pos - rotation @ spec.pos
+
+
+def assembled_pose(physics, furniture, root, part):
+  """World pose of `part` in its assembled place relative to the root part as it is now."""
+  rotation, translation = design_to_world(physics, furniture, root)
+  spec = furniture.spec.parts[part]
+  return rotation @ spec.pos + translation, rotation @ spec.rot
+
+
+def part_radius(furniture, part):
+  """Radius of a sphere about the part's origin that holds all its collision geometry."""
+  lo, hi = furniture.spec.parts[part].bounds
+  return float(np.linalg.norm(np.maximum(np.abs(lo), np.abs(hi))))
+
+
+def assembly_circle(physics, furniture, root):
+  """Centre (x, y) and radius of the assembled furniture's footprint, where it is now."""
+  rotation, translation = design_to_world(physics, furniture, root)
+  corners = []
+  for p in furniture.spec.parts:
+    lo, hi = p.bounds
+    box = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+    corners.append((box @ p.rot.T + p.pos) @ rotation.T + translation)
+  corners = np.concatenate(corners)[:, :2]
+  centre = (corners.min(0) + corners.max(0)) / 2
+  return centre, float(np.linalg.norm(corners - centre, axis=1).max())
+
+
+def route(start, entry, centre, radius, height):
+  """Travel points from `start` to above-or-beside `entry` without crossing the circle.
+
+  Out radially to `radius` at `height`, round the circle in steps of at most
+  30 degrees, to the radius of the entry direction, down or up to the entry
+  height there, then straight in to `entry`.
+  """
+  def polar(point):
+    offset = point[:2] - centre
+    return np.arctan2(offset[1], offset[0]), np.linalg.norm(offset)
+  angle0, r0 = polar(start)
+  angle1, r1 = polar(entry)
+  r = max(radius, r0)
+  sweep = (angle1 - angle0 + np.pi) % (2 * np.pi) - np.pi
+  count = int(np.ceil(abs(sweep) / _ARC_STEP))
+  points = [np.array([*(centre + r * _unit(angle0)), height])]
+  for k in range(1, count + 1):
+    points.append(np.array([*(centre + r * _unit(angle0 + sweep * k / count)), height]))
+  outer = max(radius, r1)
+  points.append(np.array([*(centre + outer * _unit(angle1)), height]))
+  points.append(np.array([*(centre + outer * _unit(angle1)), entry[2]]))
+  points.append(np.asarray(entry, float))
+  return points
+
+
+def _unit(angle):
+  return np.array([np.cos(angle), np.sin(angle)])
+
+
 def mating_target(physics, furniture, pair, moving_part):
   """Pose of `moving_part` that makes the pair's connector frames coincide.
 
@@ -34,7 +97,8 @@ def mating_target(physics, furniture, pair, moving_part):
   moving_con, fixed_con = (con_a, con_b) if table.part[con_a] == moving_part else (con_b, con_a)
   positions, rotations = furniture.part_poses(physics)
   cpos, crot = table.world_frames(positions, rotations)
-  twists = _ANY_TWIST_GRID if table.any_twist[pair] else table.twist_angles[pair][table.twist_valid[pair]]
+  any_grid = np.radians(np.arange(0, 360, 15))
+  twists = any_grid if table.any_twist[pair] else table.twist_angles[pair][table.twist_valid[pair]]
   # Aligned means R_b = R_a Rz(t): the moving frame is R_fixed Rz(-t) if it is a, Rz(t) if b.
   sign = -1.0 if moving_con == con_a else 1.0
   current = rotations[moving_part]

@@ -1,4 +1,10 @@
-"""The furniture catalog: every model file under models/furniture, with tags from its metadata."""
+"""The furniture catalog: every model file under models/furniture, with tags from its metadata.
+
+Names read category_family_variant (e.g. table_four_leg_lack). Each entry
+carries its category, family and variant, part and connection counts, and
+tags: the category, the family, `parts_N`, and `concave` when some part
+collides through convex pieces of a decomposed mesh.
+"""
 
 import dataclasses
 import functools
@@ -15,6 +21,15 @@ class Entry:
   category: str
   num_parts: int
   tags: frozenset
+  family: str = ""
+  variant: str = ""
+  description: str = ""
+  num_connections: int = 0    # connections an assembly makes: parts - 1
+
+
+def _has_mesh_collision(spec):
+  return any(g.get("type") == "mesh" and g.get("contype") != "0"
+             for p in spec.parts for g in p.element.iter("geom"))
 
 
 @functools.lru_cache(maxsize=1)
@@ -23,22 +38,56 @@ def entries():
   out = {}
   for path in sorted(paths.furniture_dir().glob("*.xml")):
     spec = model_format.load_spec(str(path))
-    category = spec.metadata.get("category", "uncategorized")
-    tags = frozenset({category, spec.metadata.get("family", ""), f"parts_{len(spec.parts)}"} - {""})
-    out[path.stem] = Entry(path.stem, str(path), category, len(spec.parts), tags)
+    meta = spec.metadata
+    category = meta.get("category", "uncategorized")
+    tags = {category, meta.get("family", ""), f"parts_{len(spec.parts)}"}
+    if _has_mesh_collision(spec):
+      tags.add("concave")
+    out[path.stem] = Entry(path.stem, str(path), category, len(spec.parts),
+                           frozenset(tags - {""}), meta.get("family", ""), meta.get("variant", ""),
+                           meta.get("description", ""), len(spec.parts) - 1)
   return out
 
 
-def names(tag=None, min_parts=None, max_parts=None):
-  """Furniture names, optionally those with `tag` and a part count in range."""
+def names(tag=None, min_parts=None, max_parts=None, category=None):
+  """Furniture names, optionally those with `tag`, in `category`, with a part count in range."""
   return [e.name for e in entries().values()
           if (tag is None or tag in e.tags)
+          and (category is None or e.category == category)
           and (min_parts is None or e.num_parts >= min_parts)
           and (max_parts is None or e.num_parts <= max_parts)]
 
 
 def categories():
   return sorted({e.category for e in entries().values()})
+
+
+def families(category=None):
+  """Sorted (category, family) pairs, optionally of one category."""
+  return sorted({(e.category, e.family) for e in entries().values()
+                 if category is None or e.category == category})
+
+
+def counts():
+  """category -> number of models."""
+  out = {}
+  for e in entries().values():
+    out[e.category] = out.get(e.category, 0) + 1
+  return dict(sorted(out.items()))
+
+
+def representatives():
+  """One model per category: the one with the median part count (ties: first by name).
+
+  A small, stable subset that still covers every kind of part and joint,
+  for tests and CI runs that cannot afford the whole catalog.
+  """
+  out = []
+  for category in categories():
+    members = sorted((entries()[n] for n in names(category=category)),
+                     key=lambda e: (e.num_parts, e.name))
+    out.append(members[(len(members) - 1) // 2].name)
+  return out
 
 
 def path_of(name):

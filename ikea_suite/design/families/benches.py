@@ -21,8 +21,10 @@ def plank_bench(name, variant, length=1.0, depth=0.32, height=0.45, board=0.03,
   panel = part_geoms.board(furniture, (board, depth - 0.02, leg_height), material)
   legs = []
   for i, sx in enumerate((-1, 1)):
-    leg = furniture.add_part(f"end{i}", (sx * leg_x, 0, leg_height / 2), geoms=panel)
-    furniture.connect(leg, seat, (sx * leg_x, 0, leg_height), up=(0, 0, 1), forward=(1, 0, 0),
+    # The second end is the first turned half a turn, so the two are one part.
+    leg = furniture.add_part(f"end{i}", (sx * leg_x, 0, leg_height / 2),
+                             rot=bp.rot_z(0 if i == 0 else np.pi), geoms=panel)
+    furniture.connect(leg, seat, (sx * leg_x, 0, leg_height), up=(0, 0, 1), forward=leg.rot[:, 0],
                       type_a="end_top", type_b="seat_end_slot", twists_deg=(0, 180))
     legs.append(leg)
   z = leg_height - 0.06
@@ -57,7 +59,7 @@ def slatted_bench(name, variant, length=1.2, depth=0.4, height=0.45, slats=4, sl
     y = -depth / 2 + slat_width / 2 + k * (slat_width + 0.01)
     slat = furniture.add_part(f"slat{k}", (0, y, height - slat_thickness / 2), geoms=slat_geoms)
     for end, sx in zip(ends, (-1, 1)):
-      furniture.connect(slat, end, (sx * end_x, y, frame_height), up=(0, 0, -1), forward=(1, 0, 0),
+      furniture.connect(slat, end, (sx * end_x, y, frame_height), up=(0, 0, -1), forward=end.rot[:, 0],
                         type_a="slat_end", type_b="end_slat_slot", twists_deg=(0, 180))
   return furniture
 

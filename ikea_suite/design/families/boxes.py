@@ -3,7 +3,7 @@
 from ikea_suite.design import blueprint as bp
 from ikea_suite.design import part_geoms
 
-GAP = 0.002
+GAP = 0.006   # wide enough that walls go in without scraping their neighbours
 
 
 def open_box(name, variant, length=0.40, width=0.30, height=0.15, board=0.012,
@@ -36,12 +36,14 @@ def open_box(name, variant, length=0.40, width=0.30, height=0.15, board=0.012,
     furniture.connect(bottom, part, (0, 0, board), up=(0, 0, 1), forward=(1, 0, 0),
                       type_a="bottom_divider_slot", type_b="divider_bottom", twists_deg=(0, 180))
   if lid:
+    # The lid overhangs the walls by 5 mm and rests on both long walls.
     top_z = board + height
     part = furniture.add_part("lid", (0, 0, top_z + board / 2), geoms=part_geoms.board(
-        furniture, (length, width, board), material, bevel=0.002))
-    furniture.connect(furniture.part("long_wall0"), part, (0, width / 2 - board / 2, top_z),
-                      up=(0, 0, 1), forward=(1, 0, 0), type_a="wall_lid_slot", type_b="lid_rim",
-                      twists_deg=(0,))
+        furniture, (length + 0.01, width + 0.01, board), material, bevel=0.002))
+    for i, sy in enumerate((1, -1)):
+      furniture.connect(furniture.part(f"long_wall{i}"), part, (0, sy * (width / 2 - board / 2), top_z),
+                        up=(0, 0, 1), forward=(1, 0, 0), type_a="wall_lid_slot", type_b="lid_rim",
+                        twists_deg=(0, 180))
   return furniture
 
 

@@ -107,8 +107,8 @@ def add_doors(carcass, bottom, top, count=2, material=None):
 def add_drawers(carcass, bottom, top, count, material=None, front_material=None):
   """`count` equal drawers (open boxes of five boards) stacked between two heights.
 
-  A drawer's left runner connector mates the left panel's runner slot; all
-  drawers are the same part.
+  A drawer's runners mate runner slots on both panels; all drawers are the
+  same part.
   """
   c, f = carcass, carcass.furniture
   t = 0.012
@@ -127,5 +127,6 @@ def add_drawers(carcass, bottom, top, count, material=None, front_material=None)
   for k in range(count):
     z_mid = bottom + pitch * (k + 0.5)
     drawer = f.add_part(f"drawer{k}", (0, y, z_mid), geoms=geoms)
-    f.connect(drawer, c.sides[0], (-c.inner_width / 2, y, z_mid), up=(-1, 0, 0),
-              forward=(0, 0, 1), type_a="drawer_runner", type_b="side_runner_slot")
+    for side, sx in zip(c.sides, (-1, 1)):   # a runner on each side
+      f.connect(drawer, side, (sx * c.inner_width / 2, y, z_mid), up=(sx, 0, 0),
+                forward=(0, 0, 1), type_a="drawer_runner", type_b="side_runner_slot")

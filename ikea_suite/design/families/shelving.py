@@ -60,7 +60,7 @@ def bracket_shelving(name, variant, width=0.6, depth=0.25, height=1.2, shelves=2
       furniture.connect(bracket, upright, (sx * inner / 2, 0, z - flange / 2), up=(sx, 0, 0),
                         forward=(0, 0, 1), type_a="bracket_back", type_b="upright_bracket_slot",
                         twists_deg=(0,))
-      furniture.connect(shelf, bracket, (x, 0, z), up=(0, 0, -1), forward=(1, 0, 0),
+      furniture.connect(shelf, bracket, (x, 0, z), up=(0, 0, -1), forward=bracket.rot[:, 0],
                         type_a="shelf_bottom", type_b="bracket_top", twists_deg=(0, 180))
   return furniture
 

@@ -107,7 +107,7 @@ def trestle_table(name, variant, length=1.4, depth=0.75, height=0.74, top_thickn
   for i, sx in enumerate((-1, 1)):
     leg = furniture.add_part(f"trestle{i}", (sx * leg_x, 0, leg_height / 2),
                              rot=bp.rot_z(0 if i == 0 else np.pi), geoms=leg_geoms)
-    furniture.connect(leg, top, (sx * leg_x, 0, leg_height), up=(0, 0, 1), forward=(1, 0, 0),
+    furniture.connect(leg, top, (sx * leg_x, 0, leg_height), up=(0, 0, 1), forward=leg.rot[:, 0],
                       type_a="trestle_top", type_b="top_trestle_slot", twists_deg=(0, 180))
     legs.append(leg)
   span = 2 * leg_x - leg_thickness - 2 * GAP

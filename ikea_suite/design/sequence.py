@@ -1,0 +1,191 @@
+"""Assembly sequences found by disassembly: which part goes in next, and along which path.
+
+Starting from the assembled furniture (raised by `lift` above the floor, as
+the oracle holds it), parts are taken away one at a time. A part may leave
+when the rest stays one connected assembly and the part slides out without
+cutting into the rest or the floor: straight along an axis until it is clear
+of the rest's bounding box, or a short way along one axis and then sideways
+out (a leg drops from under a table top, then moves out). Read backwards this
+is an assembly order in which every part goes in along a free path. The root
+part (the one the oracle holds) stays to the end.
+
+Plain MuJoCo on the model file does the collision tests; nothing here needs
+the task or an environment.
+"""
+
+import dataclasses
+import functools
+
+import mujoco
+import numpy as np
+
+from ikea_suite.props import model_format
+
+PENETRATION = 0.001    # metres of overlap that count as a collision
+CLEARANCE = 0.001      # metres of air kept around a part once it is `NEAR` from its place
+LOOSE = 0.005          # air around a part that leaves loosely: such parts leave first
+NEAR = 0.008           # closer than this a part may slide along a face it will touch
+STEP = 0.015           # sampling step along a path (thinner than any two boards together)
+MARGIN = 0.03          # extra distance beyond the bounding box
+SHORT_MOVE = (0.03, 0.06, 0.10, 0.15)   # first-leg lengths tried for two-leg paths
+_AXES = np.concatenate([np.eye(3), -np.eye(3)])
+_PARKED = 100.0        # parts taken away are parked this far along x
+
+
+@dataclasses.dataclass(frozen=True)
+class Step:
+  """One insertion, in the assembled (design) frame.
+
+  The part travels `waypoints` (offsets of its assembled position, from the
+  farthest to the goal) in its assembled orientation; the last waypoint is 0.
+  """
+  part: int
+  waypoints: tuple
+
+
+class _Scene:
+  """The model file in plain MuJoCo, with parts moved in and out of the scene by qpos."""
+
+  def __init__(self, spec, lift):
+    self.model = mujoco.MjModel.from_xml_path(spec.path)
+    self.model.geom_margin[:] = 2 * LOOSE   # report near misses, not only overlaps
+    self.air = CLEARANCE
+    self.data = mujoco.MjData(self.model)
+    self.lift = np.array([0.0, 0.0, lift])
+    self.body = [mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, p.name) for p in spec.parts]
+    self.qadr = [self.model.jnt_qposadr[self.model.body_jntadr[b]] for b in self.body]
+    self.home = [self.data.qpos[a:a + 3].copy() for a in self.qadr]
+    self.bounds = [self._world_box(i, spec.parts[i]) for i in range(len(spec.parts))]
+
+  def _world_box(self, i, part):
+    lo, hi = part.bounds
+    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                        for z in (lo[2], hi[2])])
+    return corners @ part.rot.T + part.pos + self.lift
+
+  def place(self, present):
+    for i, adr in enumerate(self.qadr):
+      self.data.qpos[adr:adr + 3] = (self.home[i] + self.lift if i in present
+                                     else (_PARKED + 5 * i, 0, 0))
+
+  def collides(self, part, offset):
+    """Whether `part` moved by `offset` from its assembled pose overlaps the present parts
+    (or, farther than `NEAR` from its place, comes within `CLEARANCE` of them)."""
+    adr = self.qadr[part]
+    self.data.qpos[adr:adr + 3] = self.home[part] + self.lift + offset
+    mujoco.mj_fwdPosition(self.model, self.data)
+    body = self.body[part]
+    limit = self.air if np.linalg.norm(offset) > NEAR else -PENETRATION
+    for c in self.data.contact[:self.data.ncon]:
+      if c.dist < limit and body in (self.model.geom_bodyid[c.geom1],
+                                            self.model.geom_bodyid[c.geom2]):
+        self.data.qpos[adr:adr + 3] = self.home[part] + self.lift
+        return True
+    self.data.qpos[adr:adr + 3] = self.home[part] + self.lift
+    return False
+
+  def path_free(self, part, start, direction, length):
+    return not any(self.collides(part, start + s * direction)
+                   for s in np.arange(STEP, length + STEP / 2, STEP))
+
+  def clearance(self, part, present, direction, start=np.zeros(3)):
+    """How far `part` must travel along `direction` to leave the present parts' bounding box."""
+    rest = np.concatenate([self.bounds[i] for i in present if i != part])
+    own = self.bounds[part] + start
+    return max((rest @ direction).max() - (own @ direction).min(), 0.0) + MARGIN
+
+
+def _connected(nodes, edges):
+  nodes = set(nodes)
+  if not nodes:
+    return True
+  seen, todo = set(), [next(iter(nodes))]
+  while todo:
+    n = todo.pop()
+    if n in seen:
+      continue
+    seen.add(n)
+    todo += [b for a, b in edges if a == n and b in nodes] + [a for a, b in edges
+                                                                if b == n and a in nodes]
+  return seen == nodes
+
+
+def _exit_path(scene, part, present):
+  """Waypoints (offsets, farthest first) along which `part` leaves the present parts, or None.
+
+  The farthest waypoint is clear of the rest's bounding box across some axis
+  plane, so the part can reach it from anywhere on that plane's far side.
+  Shorter paths win; straight paths beat two-leg ones.
+  """
+  straight = []
+  for d in _AXES:
+    length = scene.clearance(part, present, d)
+    straight.append((length, d))
+  for length, d in sorted(straight, key=lambda item: item[0]):
+    if scene.path_free(part, np.zeros(3), d, length):
+      return (length * d, np.zeros(3))
+  bent = []
+  for d in _AXES:
+    for short in SHORT_MOVE:
+      if not scene.path_free(part, np.zeros(3), d, short):
+        break
+      first = short * d
+      for side in _AXES:
+        if abs(side @ d) < 0.5 and side[2] > -0.5:
+          bent.append((short + scene.clearance(part, present, side, first), first, side))
+  for _, first, side in sorted(bent, key=lambda item: item[0]):
+    length = scene.clearance(part, present, side, first)
+    if scene.path_free(part, first, side, length):
+      return (first + length * side, first, np.zeros(3))
+  return None
+
+
+@functools.lru_cache(maxsize=64)
+def plan(path, root, lift=0.15):
+  """Insertion steps for every part but `root`, in assembly order; raises ValueError if stuck.
+
+  `path` is a furniture model file; `root` the index of the part held still.
+  """
+  spec = model_format.load_spec(str(path))
+  scene = _Scene(spec, lift)
+  edges = _design_edges(spec)
+  present = set(range(len(spec.parts)))
+  removed = []
+  while len(present) > 1:
+    scene.place(present)
+    step = _next_removal(scene, present, root, edges)
+    if step is not None:
+      removed.append(step)
+      present.remove(step.part)
+    else:
+      names = [spec.parts[p].name for p in sorted(present - {root})]
+      raise ValueError(f"{spec.name}: no part of {names} can leave along a free straight path")
+  return tuple(reversed(removed))
+
+
+def _next_removal(scene, present, root, edges):
+  """A part that can leave now: first any that leaves with `LOOSE` air around it (in the
+  assembly it goes in last, into open space), then any that just fits."""
+  # Among equals, parts with more neighbours leave first: they close the others in.
+  order = sorted(present - {root}, key=lambda p: (-sum(p in e for e in edges), -p))
+  order = [p for p in order if _connected(present - {p}, edges)]
+  for air in (LOOSE, CLEARANCE):
+    scene.air = air
+    for part in order:
+      waypoints = _exit_path(scene, part, present)
+      if waypoints is not None:
+        scene.air = CLEARANCE
+        return Step(part, tuple(tuple(float(v) for v in w) for w in waypoints))
+  scene.air = CLEARANCE
+  return None
+
+
+def _design_edges(spec):
+  index = {p.name: i for i, p in enumerate(spec.parts)}
+  pose = {p.name: (p.pos, p.rot) for p in spec.parts}
+  edges = set()
+  for a in spec.connectors:
+    for b in spec.connectors:
+      if a.part != b.part and a.mates == b.type and model_format._coincide(a, b, pose):
+        edges.add(tuple(sorted((index[a.part], index[b.part]))))
+  return sorted(edges)
