@@ -9,6 +9,7 @@ respect joint limits and per-joint velocity limits.
 import mink
 import mujoco
 import numpy as np
+import qpsolvers
 from dm_control import mjcf
 
 # Regularizes the redundant (null-space) motion of 7-DoF arms towards home.
@@ -37,6 +38,10 @@ class DifferentialIK:
     self._position_limit = [mink.ConfigurationLimit(model)]
     self._solver = solver
     self.arm_qpos_index = np.array(self._physics.bind(arm_joints).qposadr)
+    limited = model.jnt_limited.astype(bool) & (model.jnt_type >= int(mujoco.mjtJoint.mjJNT_SLIDE))
+    self._limited_qpos = model.jnt_qposadr[limited]
+    self._low = model.jnt_range[limited, 0] + 1e-6
+    self._high = model.jnt_range[limited, 1] - 1e-6
 
   def set_posture(self, q):
     self._posture.set_target(np.asarray(q, dtype=float))
@@ -53,22 +58,22 @@ class DifferentialIK:
   def step(self, q, targets, dt, velocity_limited=True):
     """Joint vector after one IK step of length dt from q towards `targets` [(pos, rot)]."""
     configuration = self._configuration
-    configuration.update(q)
     for task, (pos, rot) in zip(self._tasks, targets):
       task.set_target(mink.SE3.from_rotation_and_translation(mink.SO3.from_matrix(rot), pos))
     limits = self._limits if velocity_limited else self._position_limit
     # Limits are enforced on the step, so q must itself lie within them.
     configuration.update(self.clip_to_limits(q))
-    velocity = mink.solve_ik(configuration, self._tasks + [self._posture], dt, self._solver,
-                             damping=_DAMPING, limits=limits)
-    return configuration.integrate(velocity, dt)
+    # build_ik + solve_problem is mink.solve_ik without its per-call limit check
+    # (q was just clipped), which is a measurable share of a step's cost.
+    problem = mink.build_ik(configuration, self._tasks + [self._posture], dt, _DAMPING, limits)
+    result = qpsolvers.solve_problem(problem, solver=self._solver)
+    if not result.found:
+      raise mink.NoSolutionFound(self._solver)
+    return configuration.integrate(result.x, 1.0)   # x is the step's displacement, not a velocity
 
   def clip_to_limits(self, q):
-    model = self.model
     q = np.array(q, dtype=float)
-    limited = model.jnt_limited.astype(bool) & (model.jnt_type >= int(mujoco.mjtJoint.mjJNT_SLIDE))
-    adr = model.jnt_qposadr[limited]
-    q[adr] = np.clip(q[adr], model.jnt_range[limited, 0] + 1e-6, model.jnt_range[limited, 1] - 1e-6)
+    q[self._limited_qpos] = np.clip(q[self._limited_qpos], self._low, self._high)
     return q
 
   def solve(self, q, targets, iterations=200, tolerance=1e-4):

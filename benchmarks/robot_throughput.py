@@ -1,0 +1,121 @@
+"""Env steps/s per robot and control mode next to raw MuJoCo stepping of the same model.
+
+For each (robot, control mode) on one furniture: steps/s of env.step with
+smoothly varying random actions (state observations, no rendering); the same
+number of physics substeps stepped by mujoco.mj_step on the env's compiled
+model from the very states the env stepped from; their ratio; and the Python
+control cost per step: the robot's whole apply_action and, within it, the
+mink IK solve. Usage:
+
+    python benchmarks/robot_throughput.py [--steps 500] [--furniture NAME] [--robots sawyer ...]
+
+References (table_lack; see docs/robots.md): the original IKEA environment
+reported Sawyer impedance 225, Sawyer IK 44 and Cursor 491 steps/s; robosuite
+1.5.2 Lift with Sawyer runs about 55 steps/s on a machine like ours.
+"""
+
+import argparse
+import time
+
+import mujoco
+import numpy as np
+
+import ikea_suite
+from ikea_suite.robots import control_modes
+
+
+class _Timer:
+  """Wraps a callable and sums its wall time."""
+
+  def __init__(self, function):
+    self.function, self.seconds, self.calls = function, 0.0, 0
+
+  def __call__(self, *args, **kwargs):
+    start = time.perf_counter()
+    try:
+      return self.function(*args, **kwargs)
+    finally:
+      self.seconds += time.perf_counter() - start
+      self.calls += 1
+
+
+def smooth_actions(rng, steps, size, keep=0.9):
+  """Random actions that wander instead of jumping every step (an AR(1) process in [-1, 1])."""
+  actions = np.zeros((steps, size))
+  current = np.zeros(size)
+  for i in range(steps):
+    current = keep * current + (1 - keep) * rng.uniform(-3, 3, size)
+    actions[i] = np.clip(current, -1, 1)
+  return actions
+
+
+def time_robot(env, steps, rng):
+  """(s per env step, s per raw substeps, substeps, s of apply_action, s of IK) per step."""
+  robot = env.task.robot
+  control = _Timer(robot.apply_action)
+  robot.apply_action = control   # instance attribute shadows the method
+  ik = getattr(robot, "_ik", None)
+  solve = None
+  if ik is not None:
+    solve = _Timer(ik.step)
+    ik.step = solve
+  spec = mujoco.mjtState.mjSTATE_INTEGRATION
+  actions = smooth_actions(rng, steps, env.action_spec().shape[0])
+  actions[:, -1] = -1.0   # no connect: measure stepping, not snapping
+  env.reset()   # composer may recompile on reset: take model and data after it
+  model, data = env.physics.model._model, env.physics.data._data
+  states, eq_data, env_seconds = [], [], 0.0
+  for action in actions:
+    # The state each step starts from (controls included), recorded outside the timing.
+    state = np.empty(mujoco.mj_stateSize(model, spec))
+    mujoco.mj_getState(model, data, state, spec)
+    states.append(state)
+    eq_data.append(model.eq_data.copy())
+    start = time.perf_counter()
+    last = env.step(action).last()
+    env_seconds += time.perf_counter() - start
+    if last:
+      raise RuntimeError("episode ended during the benchmark; use fewer --steps")
+  substeps = int(round(env.control_timestep() / model.opt.timestep))
+  control_seconds = control.seconds / steps
+  ik_seconds = 0.0 if solve is None else solve.seconds / steps
+  # Raw MuJoCo from the same states: same model, contacts and substeps, no Python control.
+  raw_data = mujoco.MjData(model)
+  raw_seconds = 0.0
+  for state, eq in zip(states, eq_data):
+    mujoco.mj_setState(model, raw_data, state, spec)
+    model.eq_data[:] = eq
+    start = time.perf_counter()
+    mujoco.mj_step(model, raw_data, substeps)
+    raw_seconds += time.perf_counter() - start
+  raw_seconds /= steps
+  return env_seconds / steps, raw_seconds, substeps, control_seconds, ik_seconds
+
+
+def main():
+  parser = argparse.ArgumentParser(description=__doc__)
+  parser.add_argument("--steps", type=int, default=500)
+  parser.add_argument("--furniture", default="table_four_leg_lack")
+  parser.add_argument("--robots", nargs="*", default=None)
+  parser.add_argument("--modes", nargs="*", default=list(control_modes.MODES))
+  args = parser.parse_args()
+  robots = args.robots or ikea_suite.robot_names()
+  rng = np.random.default_rng(0)
+  header = (f"{'robot':8s} {'control mode':16s} {'substeps':>8s} {'env steps/s':>11s} "
+            f"{'raw steps/s':>11s} {'env/raw':>7s} {'control ms':>10s} {'IK ms':>6s}")
+  print(f"furniture: {args.furniture}")
+  print(header)
+  print("-" * len(header))
+  for robot in robots:
+    modes = args.modes if robot != "cursor" else [None]
+    for mode in modes:
+      options = {} if mode is None else {"control_mode": mode}
+      env = ikea_suite.load(args.furniture, robot, seed=0, **options)
+      env_t, raw_t, substeps, control_t, ik_t = time_robot(env, args.steps, rng)
+      print(f"{robot:8s} {mode or '-':16s} {substeps:8d} {1 / env_t:11.0f} {1 / raw_t:11.0f} "
+            f"{env_t / raw_t:7.2f} {1e3 * control_t:10.3f} {1e3 * ik_t:6.3f}", flush=True)
+      env.close()
+
+
+if __name__ == "__main__":
+  main()
