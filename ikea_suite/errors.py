@@ -1,5 +1,7 @@
 """The package's one exception family: every error a user can cause is an IkeaSuiteError."""
 
+import difflib
+
 
 class IkeaSuiteError(Exception):
   """Base class of every error raised by ikea_suite for bad input."""
@@ -10,8 +12,10 @@ class UnknownNameError(IkeaSuiteError, KeyError):
 
   def __init__(self, kind, name, valid):
     self.kind, self.name, self.valid = kind, name, sorted(valid)
-    shown = ", ".join(self.valid[:40]) + (" …" if len(self.valid) > 40 else "")
-    super().__init__(f"unknown {kind} {name!r}; valid {kind} names: {shown}")
+    close = difflib.get_close_matches(str(name), self.valid, n=3)
+    hint = f" (did you mean {', '.join(close)}?)" if close else ""
+    super().__init__(
+        f"unknown {kind} {name!r}{hint}; valid {kind} names: {', '.join(self.valid)}")
 
   def __str__(self):  # KeyError would otherwise quote the whole message.
     return self.args[0]

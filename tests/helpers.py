@@ -44,6 +44,7 @@ def geoms_collide(physics, geom_a, geom_b):
 
 
 def first_geom(env, part):
-  physics = env.physics
+  """The part's first collision geom (visual-only geoms never collide)."""
+  model = env.physics.model
   body = env.task.furniture.body_ids[part]
-  return int(np.flatnonzero(physics.model.geom_bodyid == body)[0])
+  return int(np.flatnonzero((model.geom_bodyid == body) & (model.geom_conaffinity != 0))[0])

@@ -30,8 +30,14 @@ def test_unknown_names_list_the_valid_ones(kwargs, kind, bad):
     ikea_suite.load(**kwargs)
   message = str(info.value)
   assert f"unknown {kind} '{bad}'" in message
-  valid = {"furniture": ikea_suite.DEFAULT_FURNITURE, "robot": "cursor", "option": "time_limit"}[kind]
-  assert valid in message
+  valid = {"furniture": ikea_suite.furniture_names(), "robot": ikea_suite.robot_names(),
+           "option": ["time_limit", "distance_threshold"]}[kind]
+  assert all(name in message for name in valid)
+
+
+def test_unknown_name_suggests_close_matches():
+  with pytest.raises(ikea_suite.UnknownNameError, match="did you mean table_four_leg_lack"):
+    ikea_suite.load("table_four_leg_lak")
 
 
 @pytest.fixture(scope="module")
