@@ -15,6 +15,7 @@ if _sys.platform.startswith("linux") and not _os.environ.get("DISPLAY"):
 from ikea_suite.errors import ActionError  # noqa: E402  (after the rendering default)
 from ikea_suite.errors import IkeaSuiteError  # noqa: E402
 from ikea_suite.errors import ModelFormatError  # noqa: E402
+from ikea_suite.errors import OptionValueError  # noqa: E402
 from ikea_suite.errors import UnknownNameError  # noqa: E402
 from ikea_suite.suite import DEFAULT_FURNITURE  # noqa: E402
 from ikea_suite.suite import DEFAULT_ROBOT  # noqa: E402

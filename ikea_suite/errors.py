@@ -31,3 +31,7 @@ class ModelFormatError(IkeaSuiteError, ValueError):
 
 class ActionError(IkeaSuiteError, ValueError):
   """An action of the wrong shape or with non-finite entries."""
+
+
+class OptionValueError(IkeaSuiteError, ValueError):
+  """An option of load() with a value outside its valid range or choices."""

@@ -16,7 +16,6 @@ from ikea_suite.robots import cursor
 from ikea_suite.tasks import assembly
 from ikea_suite.tasks import camera_observables
 from ikea_suite.tasks import cameras
-from ikea_suite.tasks import randomization
 
 SIZE = 32
 ALL_OUTPUTS = ("rgb", "depth", "segmentation", "part_boxes")
@@ -165,7 +164,7 @@ def test_bad_camera_options_name_the_valid_choices():
   with pytest.raises(errors.UnknownNameError, match="part_boxes"):
     _load(cameras=("front",), camera_outputs=("normals",))
   for size in (0, (32,), (32, 32.5), "big"):
-    with pytest.raises(randomization.OptionValueError, match="image_size"):
+    with pytest.raises(errors.OptionValueError, match="image_size"):
       _load(cameras=("front",), image_size=size)
 
 

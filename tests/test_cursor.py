@@ -4,7 +4,6 @@ import numpy as np
 import pytest
 
 import ikea_suite
-from ikea_suite import geometry
 from ikea_suite.oracle import targets
 from tests import helpers
 

@@ -1,6 +1,5 @@
 """Validation of furniture model files: each fault gets a ModelFormatError naming file and element."""
 
-import pathlib
 
 import numpy as np
 import pytest

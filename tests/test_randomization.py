@@ -45,11 +45,11 @@ def test_parse_accepts_names_groups_and_dicts():
 @pytest.mark.parametrize("randomize, error, message", [
     ("wind", errors.UnknownNameError, "gravity"),
     ({"frction": (0.5, 1.0)}, errors.UnknownNameError, "friction"),
-    ({"friction": (1.5, 0.5)}, randomization.OptionValueError, "friction"),
-    ({"friction": 2.0}, randomization.OptionValueError, "range"),
-    ({"light_count": (1, 9)}, randomization.OptionValueError, "light_count"),
-    ({"camera_jitter": -0.1}, randomization.OptionValueError, "camera_jitter"),
-    ({"floor": 0.5}, randomization.OptionValueError, "floor"),
+    ({"friction": (1.5, 0.5)}, errors.OptionValueError, "friction"),
+    ({"friction": 2.0}, errors.OptionValueError, "range"),
+    ({"light_count": (1, 9)}, errors.OptionValueError, "light_count"),
+    ({"camera_jitter": -0.1}, errors.OptionValueError, "camera_jitter"),
+    ({"floor": 0.5}, errors.OptionValueError, "floor"),
 ])
 def test_bad_randomization_options_raise(randomize, error, message):
   with pytest.raises(error, match=message):
@@ -240,7 +240,7 @@ def test_spread_and_yaw_range():
     (dict(preassembled=-1), "preassembled"), (dict(preassembled=(3, 1)), "preassembled"),
     (dict(spread=-0.5), "spread"), (dict(yaw_range="wide"), "yaw_range")])
 def test_bad_placement_options_raise(options, message):
-  with pytest.raises(randomization.OptionValueError, match=message):
+  with pytest.raises(errors.OptionValueError, match=message):
     _load(**options)
 
 

@@ -55,7 +55,7 @@ def test_welded_parts_move_as_one(env):
   positions, rotations = env.task.furniture.part_poses(env.physics)
   before = rotations[top].T @ (positions[legs[0]] - positions[top])
   for _ in range(40):   # two seconds of falling and landing
-    timestep = env.step(helpers.idle_action(env))
+    env.step(helpers.idle_action(env))
   positions, rotations = env.task.furniture.part_poses(env.physics)
   after = rotations[top].T @ (positions[legs[0]] - positions[top])
   assert np.linalg.norm(after - before) < 2e-3

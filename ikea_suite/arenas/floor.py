@@ -1,7 +1,6 @@
 """A floor arena with lights and named cameras looking at the assembly area."""
 
 from dm_control import composer
-from dm_control import mjcf
 
 CAMERAS = {
     # name: (position, point looked at)

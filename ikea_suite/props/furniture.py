@@ -1,6 +1,5 @@
 """The furniture prop: its parts as free entities, connectors as arrays, the assembly graph."""
 
-import functools
 
 import numpy as np
 from dm_control import composer

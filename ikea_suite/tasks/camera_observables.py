@@ -16,7 +16,6 @@ from dm_env import specs
 from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.tasks import cameras
-from ikea_suite.tasks import randomization
 
 OUTPUTS = cameras.IMAGE_KINDS + ("part_boxes",)
 MAX_IMAGE_SIZE = 2048
@@ -37,7 +36,7 @@ def image_shape(image_size):
   size = (image_size, image_size) if np.isscalar(image_size) else tuple(image_size)
   if (len(size) != 2 or not all(isinstance(s, (int, np.integer)) for s in size)
       or not all(1 <= s <= MAX_IMAGE_SIZE for s in size)):
-    raise randomization.OptionValueError(
+    raise errors.OptionValueError(
         f"image_size must be an int or (height, width) of ints in 1..{MAX_IMAGE_SIZE}, "
         f"got {image_size!r}")
   return int(size[0]), int(size[1])
@@ -70,7 +69,7 @@ class CameraRig(composer.Entity):
       if kind not in OUTPUTS:
         raise errors.UnknownNameError("camera output", kind, OUTPUTS)
     if not cameras or not outputs:
-      raise randomization.OptionValueError(
+      raise errors.OptionValueError(
           f"a camera rig needs cameras and outputs, got cameras={cameras!r} outputs={outputs!r}")
     self._mjcf_root = mjcf.RootElement(model="cameras")
     self._arena, self._furniture, self._robot = arena, furniture, robot

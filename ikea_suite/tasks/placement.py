@@ -4,8 +4,8 @@ import numpy as np
 from dm_control import composer
 from dm_control.composer.variation import distributions
 
+from ikea_suite import errors
 from ikea_suite import geometry
-from ikea_suite.tasks import randomization
 
 _LIE_FLAT = {0: np.array([[0.0, 0, -1], [0, 1, 0], [1, 0, 0]]),   # part x axis to world z
              1: np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]]),   # part y axis to world z
@@ -125,7 +125,7 @@ def preassembled_range(preassembled):
   pair = (preassembled, preassembled) if np.isscalar(preassembled) else tuple(preassembled)
   if (len(pair) != 2 or not all(isinstance(v, (int, np.integer)) for v in pair)
       or not 0 <= pair[0] <= pair[1]):
-    raise randomization.OptionValueError(
+    raise errors.OptionValueError(
         f"preassembled must be a count >= 0 or a (low, high) range of counts, got {preassembled!r}")
   return int(pair[0]), int(pair[1])
 
@@ -146,7 +146,7 @@ def scattered_parts(furniture, spread=0.9, preassembled=0, yaw_range=np.pi):
   """ScatteredParts from load() options: ring width (m), curriculum count, largest |yaw| (rad)."""
   for name, value in (("spread", spread), ("yaw_range", yaw_range)):
     if not _is_number(value) or not 0 <= value < np.inf:
-      raise randomization.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
+      raise errors.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
   return ScatteredParts(furniture, spread=float(spread), preassembled=preassembled,
                         yaw=distributions.Uniform(-float(yaw_range), float(yaw_range)))
 

@@ -21,9 +21,6 @@ from ikea_suite import errors
 from ikea_suite.arenas import presets
 
 
-class OptionValueError(errors.IkeaSuiteError, ValueError):
-  """An option whose value is out of range or of the wrong form."""
-
 
 # factor: (default when on, meaning). Ranges are inclusive (low, high).
 FACTORS = {
@@ -112,22 +109,22 @@ def parse(randomize):
 def _check(name, value):
   if name in _SWITCHES:
     if value is not True:
-      raise OptionValueError(f"randomization factor {name!r} is on/off: True, False or None, "
+      raise errors.OptionValueError(f"randomization factor {name!r} is on/off: True, False or None, "
                              f"got {value!r}")
     return True
   if name in _AMOUNTS:
     if (not isinstance(value, (int, float, np.integer, np.floating)) or isinstance(value, bool)
         or not 0 <= value < np.inf):
-      raise OptionValueError(f"randomization factor {name!r} needs an amount >= 0, got {value!r}")
+      raise errors.OptionValueError(f"randomization factor {name!r} needs an amount >= 0, got {value!r}")
     return float(value)
   try:
     low, high = (float(v) for v in value)
   except (TypeError, ValueError):
-    raise OptionValueError(f"randomization factor {name!r} needs a (low, high) range, "
+    raise errors.OptionValueError(f"randomization factor {name!r} needs a (low, high) range, "
                            f"got {value!r}") from None
   limit = MAX_LIGHTS if name == "light_count" else np.inf
   if not 0 <= low <= high <= limit:
-    raise OptionValueError(f"randomization factor {name!r} needs 0 <= low <= high <= {limit}, "
+    raise errors.OptionValueError(f"randomization factor {name!r} needs 0 <= low <= high <= {limit}, "
                            f"got {value!r}")
   return (int(low), int(high)) if name == "light_count" else (float(low), float(high))
 

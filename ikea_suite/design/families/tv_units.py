@@ -27,7 +27,7 @@ def tv_cabinet(name, variant, width=1.2, depth=0.4, height=0.5, front="doors", b
 def tv_bench(name, variant, **kw):
   furniture = tables.coffee_shelf_table(name, variant, **kw)
   furniture.category, furniture.family = "tv_unit", "bench"
-  furniture.description = f"TV bench on four legs with a lower shelf"
+  furniture.description = "TV bench on four legs with a lower shelf"
   return furniture
 
 
