@@ -60,6 +60,9 @@ class Manipulator(base.Robot):
     self._base_pos = np.array(self.BASE_POS if base_pos is None else base_pos, dtype=float)
     self._base_rot = geometry.rot_z(base_yaw)
     self._mjcf_root, self._arms = self._build_body(name or self.DEFAULT_NAME)
+    # An arm adds contacts and constraint rows to scenes whose parts start overlapping
+    # in their assembled poses before placement; MuJoCo's default arena is too small then.
+    self._mjcf_root.size.memory = "48M"
     for arm in self._arms:
       self._add_arm_actuators(arm)
     tcp_sites = [arm.gripper.tcp_site for arm in self._arms]
