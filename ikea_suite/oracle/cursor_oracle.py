@@ -1,7 +1,7 @@
 """A scripted Cursor policy that assembles any furniture from privileged state.
 
-Cursor 0 lifts the root part to its assembled pose (raised by `lift`) and
-holds it there. Cursor 1 brings the other parts in the order of an assembly
+The base cursor lifts the root part to its assembled pose (raised by `lift`) and
+holds it there. The other cursor brings the other parts in the order of an assembly
 sequence found by disassembly (ikea_suite.design.sequence): grab a part,
 raise it, carry it round the outside of the furniture while turning it to its
 assembled orientation, then follow the part's free insertion path in and
@@ -20,9 +20,9 @@ from ikea_suite.oracle import targets
 _PER_CURSOR = 7
 _TRAVEL_TOL = 0.05     # metres: pass a travel point this close
 _PATH_TOL = (0.012, 0.04)   # metres, radians: reach insertion-path points this close
-_HOLD_GAIN = 1.0
 _INTEGRAL = 0.05       # per step: how fast a held part's standing error is taken out
 _MAX_BIAS = (0.05, 0.15)   # metres, radians
+_GRAB_RANGE = 0.02     # metres from the grasp point at which a cursor selects
 _STUCK_STEPS = 80      # steps without progress at one target before backing off
 
 
@@ -45,6 +45,10 @@ class CursorOracle:
   def reset(self):
     self._phase = Phase.REACH
     self._base_phase = Phase.REACH
+    # The cursor that holds the assembly; the other brings parts. Cursor 1, because the
+    # robot updates cursor 0 first: in a hand-back (see `_hand_back`) cursor 0 lets go
+    # and cursor 1 grabs within the same step, so the assembly never drops.
+    self._base = 1
     self._plan = None
     self._part = None
     self._points, self._point = [], 0
@@ -106,7 +110,7 @@ class CursorOracle:
       return False   # select stays off this step: let go of the other part first
     point = targets.grasp_point(self._env.physics, self._env.task.furniture, part)
     self._move_to(action, i, point)
-    if np.linalg.norm(point - self._cursor(i)[0]) < 0.01:
+    if np.linalg.norm(point - self._cursor(i)[0]) < _GRAB_RANGE:
       action[i * _PER_CURSOR + 6] = 1.0
     return False
 
@@ -115,37 +119,43 @@ class CursorOracle:
 
   # -- cursor 0: the root part -------------------------------------------------
 
-  def _base_target(self):
-    spec = self._env.task.furniture.spec.parts[self._env.task.root_part]
+  def _base_target(self, part):
+    """Where `part` of the held assembly goes: its assembled pose, raised by `lift`."""
+    spec = self._env.task.furniture.spec.parts[part]
     return spec.pos + np.array([0.0, 0.0, self._lift]), spec.rot
 
   def _hold_base(self, action):
-    """Fetches the root part, raises it, brings it to the assembly pose; True when there."""
-    root = self._env.task.root_part
-    if not self._fetch(action, 0, root):
+    """The base cursor fetches the root part, raises it and brings the assembly to its pose;
+    returns True once it is there."""
+    b, task = self._base, self._env.task
+    root = task.root_part
+    held = task.robot.held_parts[b]
+    if held < 0 or not task.state.same_group(held, root):
+      self._fetch(action, b, root)
       self._base_phase = Phase.REACH
       return False
-    physics, furniture = self._env.physics, self._env.task.furniture
-    pos, rot = targets.part_pose(physics, furniture, root)
+    action[b * _PER_CURSOR + 6] = 1.0
+    pos, rot = targets.part_pose(self._env.physics, task.furniture, held)
+    target_pos, target_rot = self._base_target(held)
     if self._base_phase == Phase.REACH:
-      self._base_phase = Phase.RAISE
+      # Straight back into place after a hand-back; from the floor, up first.
+      near = np.linalg.norm(target_pos - pos) < 0.1
+      self._base_phase = Phase.TRAVEL if near else Phase.RAISE
     if self._base_phase == Phase.RAISE:
-      height = self._raise_height(root)
-      self._drive_part(action, 0, root, np.array([pos[0], pos[1], max(height, pos[2])]), rot)
+      height = self._raise_height(held)
+      self._drive_part(action, b, held, np.array([pos[0], pos[1], max(height, pos[2])]), rot)
       if pos[2] > height - 0.02:
         self._base_phase = Phase.TRAVEL
       return False
-    target_pos, target_rot = self._base_target()
     distance = np.linalg.norm(target_pos - pos)
     angle = np.linalg.norm(geometry.mat_to_axis_angle(target_rot @ rot.T))
-    # Once there the root is only nudged back slowly: servoing a heavy, softly held
-    # assembly hard on its own pose makes it swing. Parts are placed relative to
-    # wherever the root is, so a little sag does no harm.
+    # Once there, a little sag does no harm: parts are placed relative to wherever
+    # the root is. Only a larger error sends it back to travelling.
     if self._base_phase == Phase.INSERT and distance < 0.1 and angle < 0.2:
-      self._drive_part(action, 0, root, target_pos, target_rot, gain=_HOLD_GAIN)
+      self._drive_part(action, b, held, target_pos, target_rot)
       return True
     self._base_phase = Phase.TRAVEL
-    self._drive_part(action, 0, root, target_pos, target_rot)
+    self._drive_part(action, b, held, target_pos, target_rot)
     if distance < 0.01 and angle < 0.03:
       self._base_phase = Phase.INSERT
     return False
@@ -189,16 +199,17 @@ class CursorOracle:
     part = step.part
     if self._part != part:
       self._part, self._phase = part, Phase.REACH
-    if not self._fetch(action, 1, part):
+    m = 1 - self._base
+    if not self._fetch(action, m, part):
       self._phase = Phase.REACH
       return False
-    action[13] = 1.0
+    action[m * _PER_CURSOR + 6] = 1.0
     pos, rot = targets.part_pose(physics, task.furniture, part)
     if self._phase == Phase.REACH:
       self._phase = Phase.RAISE
     if self._phase == Phase.RAISE:
       height = self._raise_height(part)
-      self._drive_part(action, 1, part, np.array([pos[0], pos[1], max(height, pos[2])]), rot)
+      self._drive_part(action, m, part, np.array([pos[0], pos[1], max(height, pos[2])]), rot)
       if pos[2] > height - 0.02 and base_ready:
         self._points, self._point = self._plan_route(step), 0
         self._best, self._since_best = np.inf, 0
@@ -207,7 +218,7 @@ class CursorOracle:
     point = self._points[self._point]
     exact = isinstance(point, int)
     target, target_rot = self._path_pose(step, point) if exact else point
-    distance, angle = self._drive_part(action, 1, part, target, target_rot)
+    distance, angle = self._drive_part(action, m, part, target, target_rot)
     last = self._point == len(self._points) - 1
     if last:
       return self._insert(action, part, distance)
@@ -250,8 +261,29 @@ class CursorOracle:
     self._watch(distance)
     return False
 
+  def _hand_back(self, action):
+    """After the first connection the task may move the root (the groups are equal) and
+    make the base cursor let go; the assembly then hangs from the small part the other
+    cursor holds. That cursor keeps still while the base cursor flies back to the root's
+    grasp point, then lets go while the base cursor grabs the root again."""
+    b, m = self._base, 1 - self._base
+    root = self._env.task.root_part
+    point = targets.grasp_point(self._env.physics, self._env.task.furniture, root)
+    self._move_to(action, b, point)
+    there = np.linalg.norm(point - self._cursor(b)[0]) < _GRAB_RANGE
+    action[m * _PER_CURSOR + 6] = -1.0 if there else 1.0
+    action[b * _PER_CURSOR + 6] = 1.0 if there else -1.0   # grabs as soon as the other lets go
+    self._base_phase = Phase.REACH
+
   def __call__(self, timestep=None):
     action = np.zeros(self._env.action_spec().shape)
+    task = self._env.task
+    held = task.robot.held_parts
+    b = self._base
+    if (held[b] < 0 and held[1 - b] >= 0
+        and task.state.same_group(held[1 - b], task.root_part)):
+      self._hand_back(action)
+      return action
     base_ready = self._hold_base(action)
     step = self._next_step()
     if step is None:

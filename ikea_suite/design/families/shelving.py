@@ -1,5 +1,5 @@
-"""Shelving: metal posts with shelves clamped at their corners, and board uprights carrying
-shelves on L brackets."""
+"""Shelving: shelves clamped between two metal ladders (round posts joined by rungs), and
+board uprights carrying shelves on L brackets."""
 
 import numpy as np
 
@@ -12,20 +12,30 @@ GAP = 0.003
 
 def post_shelving(name, variant, width=0.8, depth=0.4, height=1.5, shelves=4, post_radius=0.0125,
                   shelf_thickness=0.02, material="metal", shelf_material="metal"):
-  """Four identical round posts; identical shelves held at each corner (any twist)."""
+  """Two identical side ladders (two round posts joined by a rung at the foot and the top)
+  with identical shelves clamped between them; each ladder is one part."""
   furniture = bp.Blueprint(name, "shelving", "posts", variant,
                            f"{width:.2f} m post shelving, {shelves} shelves, {height:.2f} m high")
-  px, py = width / 2 + post_radius + GAP, depth / 2 + post_radius + GAP
-  levels = np.linspace(0.1, height - 0.05, shelves)
-  posts = part_geoms.round_leg(furniture, post_radius, height, material)
-  post_parts = [furniture.add_part(f"post{i}", (sx * px, sy * py, height / 2), geoms=posts)
-                for i, (sx, sy) in enumerate(((1, 1), (-1, 1), (-1, -1), (1, -1)))]
-  shelf_geoms = part_geoms.board(furniture, (width, depth, shelf_thickness), shelf_material)
+  r = post_radius
+  py = depth / 2 - r
+  rung = 0.03
+  ladder = []
+  for sy in (-1, 1):
+    ladder += part_geoms.round_leg(furniture, r, height, material, pos=(0, sy * py, 0))
+  for sz in (-1, 1):
+    ladder += part_geoms.box((2 * r, 2 * py, rung), material, pos=(0, 0, sz * (height / 2 - rung / 2)))
+  side_x = width / 2 + r + GAP
+  sides = [furniture.add_part(f"ladder{i}", (sx * side_x, 0, height / 2),
+                              rot=bp.rot_z(0 if i == 0 else np.pi), geoms=ladder)
+           for i, sx in enumerate((-1, 1))]
+  levels = np.linspace(rung + 0.06, height - rung - 0.06, shelves)
+  shelf_geoms = part_geoms.board(furniture, (width, depth, shelf_thickness),
+                                 shelf_material)
   for k, z in enumerate(levels):
     shelf = furniture.add_part(f"shelf{k}", (0, 0, z), geoms=shelf_geoms)
-    for post, (sx, sy) in zip(post_parts, ((1, 1), (-1, 1), (-1, -1), (1, -1))):
-      furniture.connect(shelf, post, (sx * px, sy * py, z), up=(0, 0, 1), forward=(1, 0, 0),
-                        type_a="shelf_corner", type_b="post_clamp", twists_deg=())
+    for side, sx in zip(sides, (-1, 1)):
+      furniture.connect(shelf, side, (sx * width / 2, 0, z), up=(sx, 0, 0), forward=(0, 0, 1),
+                        type_a="shelf_end", type_b="ladder_clamp", twists_deg=(0, 180))
   return furniture
 
 
@@ -66,7 +76,8 @@ def bracket_shelving(name, variant, width=0.6, depth=0.25, height=1.2, shelves=2
 
 
 def variants():
-  posts = [("steel", {}), ("steel_tall", dict(height=1.8, shelves=5)),
+  posts = [("steel", dict(shelf_material="wood_light")),
+           ("steel_tall", dict(height=1.8, shelves=5)),
            ("steel_wide", dict(width=1.0, depth=0.5, shelves=4)),
            ("birch_shelves", dict(shelves=3, height=1.2, shelf_material="birch")),
            ("white_low", dict(width=0.6, depth=0.35, height=0.9, shelves=3,
