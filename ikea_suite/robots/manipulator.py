@@ -143,8 +143,12 @@ class Manipulator(base.Robot):
 
   @property
   def action_names(self):
-    return [arm.prefix + n for arm in self._arms
-            for n in control_modes.arm_action_names(self._mode, [j.name for j in arm.joints])]
+    names = []
+    for arm in self._arms:
+      joints = [j.name[len(arm.prefix):] if j.name.startswith(arm.prefix) else j.name
+                for j in arm.joints]   # Baxter's right_s0 is named once: right_s0_position
+      names += [arm.prefix + n for n in control_modes.arm_action_names(self._mode, joints)]
+    return names
 
   @property
   def actions_per_arm(self):
