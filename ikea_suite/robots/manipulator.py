@@ -9,6 +9,7 @@ during the substeps, so no Python runs per physics substep.
 
 import dataclasses
 
+import mujoco
 import numpy as np
 from dm_control import composer
 from dm_control.composer.observation import observable
@@ -258,6 +259,21 @@ class Manipulator(base.Robot):
     return grippers.opening(gripper.open_qpos, gripper.closed_qpos,
                             physics.data.qpos[self._finger_qpos[arm]])
 
+  def tcp_positions(self, physics):
+    """(arms, 3) tool-centre-point positions."""
+    return physics.data.site_xpos[self._tcp_ids].copy()
+
+  def tcp_quaternions(self, physics):
+    """(arms, 4) tool-centre-point orientations, w x y z."""
+    quats = np.empty((len(self._arms), 4))
+    for i, site in enumerate(self._tcp_ids):
+      mujoco.mju_mat2Quat(quats[i], physics.data.site_xmat[site])
+    return quats
+
+  def gripper_openings(self, physics):
+    """(arms,) gripper openings, 1 open .. 0 closed."""
+    return np.array([self.gripper_opening(physics, i) for i in range(len(self._arms))])
+
   def joint_positions(self, physics):
     return physics.data.qpos[self._arm_qpos].ravel().copy()
 
@@ -286,16 +302,12 @@ class ManipulatorObservables(composer.Observables):
 
   @composer.observable
   def tcp_positions(self):
-    return observable.Generic(lambda physics: np.stack(
-        [self._entity.tcp_pose(physics, i)[0] for i in range(self._entity.num_arms)]))
+    return observable.Generic(self._entity.tcp_positions)
 
   @composer.observable
   def tcp_quaternions(self):
-    return observable.Generic(lambda physics: np.stack(
-        [geometry.mat_to_quat(self._entity.tcp_pose(physics, i)[1])
-         for i in range(self._entity.num_arms)]))
+    return observable.Generic(self._entity.tcp_quaternions)
 
   @composer.observable
   def gripper_opening(self):
-    return observable.Generic(lambda physics: np.array(
-        [self._entity.gripper_opening(physics, i) for i in range(self._entity.num_arms)]))
+    return observable.Generic(self._entity.gripper_openings)
