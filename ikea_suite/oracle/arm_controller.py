@@ -85,6 +85,7 @@ class ArmAssemblyController:
     self._plan = None   # (pair, twist) the held part is brought to
     self._grasp_sign = 1.0   # which of the two symmetric grasps
     self._unreachable = set()   # parts the arm stalled on; skipped until the next connection
+    self._failed_plans = set()   # (pair, twist) the arm stalled on while carrying
     self._stalled = 0
 
   @property
@@ -192,6 +193,8 @@ class ArmAssemblyController:
       twists = _ANY_TWIST_GRID if table.any_twist[pair] else (
           table.twist_angles[pair][table.twist_valid[pair]])
       for twist in twists:
+        if (int(pair), float(twist)) in self._failed_plans:
+          continue
         part_pos, part_rot, side = self._part_goal(pair, moving, twist)
         goal_pos, goal_rot = self._tool_goal_for_part(
             moving, part_pos + self._approach * side, part_rot, grip)
@@ -241,7 +244,7 @@ class ArmAssemblyController:
     if len(task.state.connections) != self._connections:
       self._connections = len(task.state.connections)
       self.phase, self._counter = Phase.RELEASE, 0
-      self._unreachable = set()
+      self._unreachable, self._failed_plans = set(), set()
     if self._job is None or self.phase == Phase.REACH and self._counter == 0:
       self._job = self._choose_job()
       self._counter = 1
@@ -292,6 +295,11 @@ class ArmAssemblyController:
           self.phase, self._counter = Phase.REACH, 0
           return action
       pair, twist = self._plan
+      self._stalled += 1
+      if self._stalled > 2 * self._stall_steps:   # this mate is out of reach: plan another
+        self._failed_plans.add((pair, twist))
+        self._plan, self._stalled = None, 0
+        return action
       part_pos, part_rot, side = self._part_goal(pair, moving, twist)
       offset = self._approach if phase == Phase.ALIGN else 0.004
       goal = self._tool_goal_for_part(moving, part_pos + offset * side, part_rot)
