@@ -79,3 +79,50 @@ def test_controller_requires_task_space_mode():
   env = ikea_suite.load("table_four_leg_lack", "sawyer", control_mode="joint_position")
   with pytest.raises(ikea_suite.IkeaSuiteError, match="task_space"):
     arm_controller.ArmAssemblyController(env)
+
+
+def test_sawyer_carries_a_welded_assembly_by_one_part():
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=1)
+  timestep = env.reset()
+  physics, task, robot = env.physics, env.task, env.task.robot
+  top = task.root_part
+  # A 9 kg top is beyond the 20 N gripper; a 0.3 kg top (a light panel) is not.
+  body = task.furniture.body_ids[top]
+  scale = 0.3 / physics.model.body_mass[body]
+  physics.model.body_mass[body] *= scale
+  physics.model.body_inertia[body] *= scale
+  controller = arm_controller.ArmAssemblyController(env)
+  for _ in range(500):
+    timestep = env.step(controller(timestep))
+    if task.state.connections:
+      break
+  leg = controller.job[1]
+  assert task.state.same_group(top, leg)   # welded by connect; the fingers still hold the leg
+  positions, rotations = task.furniture.part_poses(physics)
+  start = positions[[top, leg]].copy()
+  leg_in_top = rotations[top].T @ (positions[leg] - positions[top])
+  action = np.zeros(env.action_spec().shape)
+  action[6] = 1.0
+  for move in ([0.0, 0.0, 1.0],) * 6 + ([0.0, 0.0, 0.0],) * 10 + ([0.6, 0.0, 0.0],) * 8:
+    action[:3] = move   # up 15 cm, settle, then 12 cm along x
+    env.step(action)
+  for _ in range(10):
+    env.step(np.where(np.arange(len(action)) == 6, 1.0, 0.0))
+  positions, rotations = task.furniture.part_poses(physics)
+  moved = positions[[top, leg]] - start
+  assert np.all(moved[:, 2] > 0.05) and np.all(moved[:, 0] > 0.05)   # both parts went along
+  np.testing.assert_allclose(rotations[top].T @ (positions[leg] - positions[top]), leg_in_top,
+                             atol=0.005)   # as one rigid body
+  model, data = physics.model, physics.data
+  top_body = task.furniture.body_ids[top]
+  touching_floor = [c for c in data.contact[:data.ncon]
+                    if {model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2]} == {0, top_body}]
+  assert not touching_floor   # carried, not dragged
+  finger_bodies = {model.body(b).name for c in data.contact[:data.ncon]
+                   for b in (model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2])
+                   if "finger" in model.body(b).name}
+  assert finger_bodies   # held by the fingers' contacts
+  active = np.flatnonzero(data.eq_active)   # the only weld is the one between the parts
+  assert len(active) == 1
+  assert {model.eq_obj1id[active[0]], model.eq_obj2id[active[0]]} == {
+      top_body, task.furniture.body_ids[leg]}
