@@ -193,3 +193,14 @@ def test_a_robot_can_contribute_named_cameras(gl):
   observation = env.reset().observation
   assert observation["cameras/cursor_eye_rgb"].shape == (SIZE, SIZE, 3)
   assert not np.array_equal(observation["cameras/cursor_eye_rgb"], observation["cameras/top_rgb"])
+
+
+@pytest.mark.parametrize("robot, camera", [("sawyer", "wrist"), ("baxter", "left_wrist")])
+def test_arm_wrist_cameras_are_named_cameras(gl, robot, camera):
+  env = ikea_suite.load(ikea_suite.DEFAULT_FURNITURE, robot, seed=0, cameras=(camera,),
+                        camera_outputs=("rgb", "depth", "segmentation"), image_size=SIZE)
+  observation = env.reset().observation
+  assert observation[f"cameras/{camera}_rgb"].shape == (SIZE, SIZE, 3)
+  assert np.isfinite(observation[f"cameras/{camera}_depth"]).all()
+  # The gripper fills part of its own wrist view.
+  assert (observation[f"cameras/{camera}_segmentation"] == cameras.ROBOT_ID).any()

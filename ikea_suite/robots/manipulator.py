@@ -138,6 +138,12 @@ class Manipulator(base.Robot):
     return list(self._arms)
 
   @property
+  def cameras(self):
+    """Named wrist cameras ("wrist", or "right_wrist" and "left_wrist"), selectable with
+    load(cameras=...) for RGB, depth, segmentation and part boxes."""
+    return {f"{arm.prefix}wrist": arm.camera for arm in self._arms}
+
+  @property
   def base_pose(self):
     """World position and rotation of the robot base."""
     return self._base_pos.copy(), self._base_rot.copy()
