@@ -16,13 +16,24 @@ import numpy as np
 from ikea_suite import geometry
 from ikea_suite.design import sequence
 from ikea_suite.oracle import targets
+from ikea_suite.props import catalog
+from ikea_suite.props import model_format
+from ikea_suite.tasks import placement
 
 _PER_CURSOR = 7
 _TRAVEL_TOL = 0.05     # metres: pass a travel point this close
 _PATH_TOL = (0.012, 0.04)   # metres, radians: reach insertion-path points this close
 _INTEGRAL = 0.05       # per step: how fast a held part's standing error is taken out
-_MAX_BIAS = (0.05, 0.15)   # metres, radians
+_MAX_BIAS = (0.08, 0.4)    # metres, radians: the most sag the integral term takes out
+_PIVOT_TILT = 0.03     # radians: how far the goal turns about the preferred connector
 _GRAB_RANGE = 0.02     # metres from the grasp point at which a cursor selects
+LIFT = 0.3   # the assembly is held this high: parts still lying on the floor pass beneath
+_FLOOR_CLEARANCE = 0.25   # metres above the floor parts are carried (lying parts are lower)
+_START_SECONDS = 30.0
+_SECONDS_PER_PART = 25.0   # simulated seconds (500 control steps) per part
+_WIDE_REACH = 6.0          # metres: the workspace half-width for large furniture
+_CROWDED = 6               # more parts than this may widen the placement ring
+_DEFAULT_REACH = (2.0, 2.0)   # the cursor's default workspace: half-width and height
 _STUCK_STEPS = 80      # steps without progress at one target before backing off
 
 
@@ -36,7 +47,7 @@ class Phase(enum.Enum):
 class CursorOracle:
   """Call with a TimeStep; returns an action for `env` (an ikea_suite cursor environment)."""
 
-  def __init__(self, env, lift=0.15, gain=1.0, tolerance=0.5, clearance=0.12):
+  def __init__(self, env, lift=LIFT, gain=1.0, tolerance=0.5, clearance=0.12):
     self._env = env
     self._lift, self._gain, self._clearance = lift, gain, clearance
     self._tolerance = tolerance   # fraction of each threshold to reach before connecting
@@ -50,6 +61,7 @@ class CursorOracle:
     # and cursor 1 grabs within the same step, so the assembly never drops.
     self._base = 1
     self._plan = None
+    self._pivot = None
     self._part = None
     self._points, self._point = [], 0
     self._best, self._since_best = np.inf, 0
@@ -80,7 +92,7 @@ class CursorOracle:
     error_pos = target_pos - part_pos
     error_rot = geometry.mat_to_axis_angle(target_rot @ part_rot.T)
     bias_pos, bias_rot = self._bias[i]
-    if np.linalg.norm(error_pos) < 0.05 and np.linalg.norm(error_rot) < 0.15:
+    if np.linalg.norm(error_pos) < _MAX_BIAS[0] and np.linalg.norm(error_rot) < _MAX_BIAS[1]:
       bias_pos = np.clip(bias_pos + _INTEGRAL * error_pos, -_MAX_BIAS[0], _MAX_BIAS[0])
       bias_rot = np.clip(bias_rot + _INTEGRAL * error_rot, -_MAX_BIAS[1], _MAX_BIAS[1])
       self._bias[i] = (bias_pos, bias_rot)
@@ -115,7 +127,8 @@ class CursorOracle:
     return False
 
   def _raise_height(self, part):
-    return targets.part_radius(self._env.task.furniture, part) + 0.05
+    """Carrying height: however the part turns, it stays above parts lying on the floor."""
+    return targets.part_radius(self._env.task.furniture, part) + _FLOOR_CLEARANCE
 
   # -- cursor 0: the root part -------------------------------------------------
 
@@ -143,7 +156,7 @@ class CursorOracle:
       self._base_phase = Phase.TRAVEL if near else Phase.RAISE
     if self._base_phase == Phase.RAISE:
       height = self._raise_height(held)
-      self._drive_part(action, b, held, np.array([pos[0], pos[1], max(height, pos[2])]), rot)
+      self._drive_part(action, b, held, np.array([pos[0], pos[1], height]), rot)
       if pos[2] > height - 0.02:
         self._base_phase = Phase.TRAVEL
       return False
@@ -174,16 +187,25 @@ class CursorOracle:
     return next((s for s in self._sequence() if not state.same_group(s.part, root)), None)
 
   def _path_pose(self, step, k):
-    """World pose of insertion-path point k of `step`, following the root as it is now."""
+    """World pose of insertion-path point k of `step`, following the root as it is now.
+
+    At the goal the part is turned a hair about its preferred connector's axis, so
+    that connector is the nearest of all that meet and the task welds by it.
+    """
     physics, task = self._env.physics, self._env.task
     goal_pos, goal_rot = targets.assembled_pose(physics, task.furniture, task.root_part, step.part)
     rotation, _ = targets.design_to_world(physics, task.furniture, task.root_part)
-    return goal_pos + rotation @ np.asarray(step.waypoints[k]), goal_rot
+    pos = goal_pos + rotation @ np.asarray(step.waypoints[k])
+    if k == len(step.waypoints) - 1 and self._pivot is not None:
+      return targets.tilt_about(pos, goal_rot, *self._pivot, _PIVOT_TILT)
+    return pos, goal_rot
 
   def _plan_route(self, step):
     """Travel points (world position, rotation) and then the insertion path (its indices)."""
     physics, task = self._env.physics, self._env.task
     furniture, root = task.furniture, task.root_part
+    joined = [p for p in range(len(furniture.parts)) if task.state.same_group(p, root)]
+    self._pivot = targets.preferred_connector(physics, furniture, step.part, joined)
     entry, goal_rot = self._path_pose(step, 0)
     centre, radius = targets.assembly_circle(physics, furniture, root)
     reach = radius + targets.part_radius(furniture, step.part) + self._clearance
@@ -209,7 +231,7 @@ class CursorOracle:
       self._phase = Phase.RAISE
     if self._phase == Phase.RAISE:
       height = self._raise_height(part)
-      self._drive_part(action, m, part, np.array([pos[0], pos[1], max(height, pos[2])]), rot)
+      self._drive_part(action, m, part, np.array([pos[0], pos[1], height]), rot)
       if pos[2] > height - 0.02 and base_ready:
         self._points, self._point = self._plan_route(step), 0
         self._best, self._since_best = np.inf, 0
@@ -294,6 +316,22 @@ class CursorOracle:
 
 
 def episode_options(name):
-  """load() options under which the oracle is expected to assemble `name`."""
-  del name
-  return {"time_limit": 600.0, "workspace": ((-4.0, -4.0, 0.0), (4.0, 4.0, 3.0))}
+  """load() options under which the oracle is expected to assemble `name`.
+
+  Time: `_SECONDS_PER_PART` of simulated time per part plus a start-up
+  allowance. Workspace: the cursors must reach every part the initial
+  placement may scatter, which for large furniture lies beyond the default
+  2 m (the ring starts past the assembled footprint and is 0.9 m wide).
+  """
+  spec = model_format.load_spec(catalog.path_of(name))
+  # A part's centre lies at most its own radius (lying flat: half its largest
+  # diagonal) plus the ring's clearance and width beyond the assembled footprint.
+  # A crowded ring widens, so past the default the workspace gets a wide margin.
+  radius = max(np.linalg.norm(p.bounds[1] - p.bounds[0]) / 2 for p in spec.parts)
+  reach = float(placement.assembled_radius(spec) + 0.15 + 0.9 + radius + 0.1)
+  top = max(float((p.pos + p.rot @ p.bounds[1])[2]) for p in spec.parts) + LIFT + 0.3
+  options = {"time_limit": _START_SECONDS + _SECONDS_PER_PART * len(spec.parts)}
+  if reach > _DEFAULT_REACH[0] or top > _DEFAULT_REACH[1] or len(spec.parts) > _CROWDED:
+    half = _WIDE_REACH
+    options["workspace"] = ((-half, -half, 0.0), (half, half, max(top, _DEFAULT_REACH[1])))
+  return options

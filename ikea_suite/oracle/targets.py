@@ -3,6 +3,7 @@
 import numpy as np
 
 from ikea_suite import geometry
+from ikea_suite.props import model_format
 
 _ARC_STEP = np.radians(30)
 
@@ -114,3 +115,35 @@ def mating_target(physics, furniture, pair, moving_part):
   norm = np.linalg.norm(side)
   side = side / norm if norm > 1e-6 else crot[fixed_con][:, 2]
   return pos, rot, side
+
+
+def preferred_connector(physics, furniture, part, joined):
+  """The connector of `part` to connect by, among those that meet a part in `joined` when
+  assembled: one on the root-most, stiffest partner (largest smallest principal inertia,
+  since a weld to a thin strip is soft about the strip's axis), nearest the part's centre.
+  Returns (position, up axis), both in the part's frame.
+  """
+  spec = furniture.spec
+  pose = {p.name: (p.pos, p.rot) for p in spec.parts}
+  index = {p.name: i for i, p in enumerate(spec.parts)}
+  inertia = physics.model.body_inertia[furniture.body_ids]
+  best = None
+  for c in spec.connectors:
+    if c.part != spec.parts[part].name:
+      continue
+    for m in spec.connectors:
+      other = index[m.part]
+      if other in joined and m.type == c.mates and model_format._coincide(c, m, pose):
+        key = (-inertia[other].min(), float(np.linalg.norm(c.pos)))
+        if best is None or key < best[0]:
+          best = (key, c)
+  if best is None:
+    return None
+  return best[1].pos, best[1].rot[:, 2]
+
+
+def tilt_about(pos, rot, pivot_local, axis_local, angle):
+  """The pose (pos, rot) turned by `angle` about an axis through a point fixed to the part."""
+  pivot = pos + rot @ pivot_local
+  turn = geometry.axis_angle_to_mat(rot @ axis_local * angle)
+  return pivot + turn @ (pos - pivot), turn @ rot

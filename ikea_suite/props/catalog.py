@@ -76,17 +76,18 @@ def counts():
   return dict(sorted(out.items()))
 
 
-def representatives():
-  """One model per category: the one with the median part count (ties: first by name).
+def representatives(smallest=False):
+  """One model per category: the one with the median part count, or with `smallest` the one
+  with the fewest parts (ties: first by name).
 
-  A small, stable subset that still covers every kind of part and joint,
-  for tests and CI runs that cannot afford the whole catalog.
+  A small, stable subset that still covers every category, for tests and CI
+  runs that cannot afford the whole catalog.
   """
   out = []
   for category in categories():
     members = sorted((entries()[n] for n in names(category=category)),
                      key=lambda e: (e.num_parts, e.name))
-    out.append(members[(len(members) - 1) // 2].name)
+    out.append(members[0 if smallest else (len(members) - 1) // 2].name)
   return out
 
 
