@@ -23,8 +23,10 @@ from ikea_suite.tasks import placement
 _PER_CURSOR = 7
 _TRAVEL_TOL = 0.05     # metres: pass a travel point this close
 _PATH_TOL = (0.012, 0.04)   # metres, radians: reach insertion-path points this close
+_SLENDER = 0.1         # smallest / largest principal inertia below which a part is slender
 _INTEGRAL = 0.05       # per step: how fast a held part's standing error is taken out
 _MAX_BIAS = (0.08, 0.4)    # metres, radians: the most sag the integral term takes out
+_STANDOFF = 0.005      # metres short of the goal along the insertion path
 _PIVOT_TILT = 0.03     # radians: how far the goal turns about the preferred connector
 _GRAB_RANGE = 0.02     # metres from the grasp point at which a cursor selects
 LIFT = 0.3   # the assembly is held this high: parts still lying on the floor pass beneath
@@ -93,6 +95,7 @@ class CursorOracle:
     error_rot = geometry.mat_to_axis_angle(target_rot @ part_rot.T)
     bias_pos, bias_rot = self._bias[i]
     if np.linalg.norm(error_pos) < _MAX_BIAS[0] and np.linalg.norm(error_rot) < _MAX_BIAS[1]:
+      error_rot = self._without_spin(part, error_rot)
       bias_pos = np.clip(bias_pos + _INTEGRAL * error_pos, -_MAX_BIAS[0], _MAX_BIAS[0])
       bias_rot = np.clip(bias_rot + _INTEGRAL * error_rot, -_MAX_BIAS[1], _MAX_BIAS[1])
       self._bias[i] = (bias_pos, bias_rot)
@@ -107,6 +110,17 @@ class CursorOracle:
     action[base:base + 3] = np.clip(move / (robot._move_speed * dt), -1, 1)
     action[base + 3:base + 6] = turn_cmd
     return np.linalg.norm(error_pos), np.linalg.norm(error_rot)
+
+  def _without_spin(self, part, error_rot):
+    """The rotation error less its part about a slender part's long axis: the grip barely
+    turns a leg about its own axis, so integrating that error would only wind up."""
+    physics = self._env.physics
+    body = self._env.task.furniture.body_ids[part]
+    inertia = physics.model.body_inertia[body]
+    if inertia.min() > _SLENDER * inertia.max():
+      return error_rot
+    axis = physics.data.ximat[body].reshape(3, 3)[:, int(np.argmin(inertia))]
+    return error_rot - axis * (axis @ error_rot)
 
   def _holds(self, i, part):
     held = self._env.task.robot.held_parts[i]
@@ -189,14 +203,21 @@ class CursorOracle:
   def _path_pose(self, step, k):
     """World pose of insertion-path point k of `step`, following the root as it is now.
 
-    At the goal the part is turned a hair about its preferred connector's axis, so
-    that connector is the nearest of all that meet and the task welds by it.
+    At the goal the part stops `_STANDOFF` short and is turned a hair about its
+    preferred connector's axis, so that connector is the nearest of all that meet
+    and the task welds by it.
     """
     physics, task = self._env.physics, self._env.task
     goal_pos, goal_rot = targets.assembled_pose(physics, task.furniture, task.root_part, step.part)
     rotation, _ = targets.design_to_world(physics, task.furniture, task.root_part)
     pos = goal_pos + rotation @ np.asarray(step.waypoints[k])
-    if k == len(step.waypoints) - 1 and self._pivot is not None:
+    if k < len(step.waypoints) - 1:
+      return pos, goal_rot
+    # Stop a few millimetres short: pressing on the mating face would pin the part by
+    # friction, and the task snaps the last gap closed anyway.
+    back = rotation @ (np.asarray(step.waypoints[k - 1]) - np.asarray(step.waypoints[k]))
+    pos = pos + _STANDOFF * back / max(np.linalg.norm(back), 1e-9)
+    if self._pivot is not None:
       return targets.tilt_about(pos, goal_rot, *self._pivot, _PIVOT_TILT)
     return pos, goal_rot
 
