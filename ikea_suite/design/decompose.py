@@ -22,7 +22,13 @@ _DIGITS = 7   # vertex rounding, so equal meshes hash equally across platforms
 
 
 def cache_dir():
-  return pathlib.Path(os.environ.get(CACHE_ENV, DEFAULT_CACHE))
+  """$IKEA_SUITE_COACD_CACHE, else the committed cache in a source checkout, else (an
+  installed, read-only package) ~/.cache/ikea_suite/coacd."""
+  if os.environ.get(CACHE_ENV):
+    return pathlib.Path(os.environ[CACHE_ENV])
+  if DEFAULT_CACHE.is_dir() and os.access(DEFAULT_CACHE, os.W_OK):
+    return DEFAULT_CACHE
+  return pathlib.Path.home() / ".cache" / "ikea_suite" / "coacd"
 
 
 def content_key(mesh, params=None):
