@@ -144,7 +144,7 @@ class CursorOracle:
     """Carrying height: however the part turns, it stays above parts lying on the floor."""
     return targets.part_radius(self._env.task.furniture, part) + _FLOOR_CLEARANCE
 
-  # -- cursor 0: the root part -------------------------------------------------
+  # -- the base cursor: the root part -----------------------------------------
 
   def _base_target(self, part):
     """Where `part` of the held assembly goes: its assembled pose, raised by `lift`."""
@@ -176,8 +176,6 @@ class CursorOracle:
       return False
     distance = np.linalg.norm(target_pos - pos)
     angle = np.linalg.norm(geometry.mat_to_axis_angle(target_rot @ rot.T))
-    # Once there, a little sag does no harm: parts are placed relative to wherever
-    # the root is. Only a larger error sends it back to travelling.
     # Parts go where the root actually is, so the base need only be roughly in place;
     # once there the cursor keeps still, as chasing a softly held heavy assembly rocks it.
     if self._base_phase == Phase.INSERT and distance < 0.1 and angle < 0.3:
@@ -188,7 +186,7 @@ class CursorOracle:
       self._base_phase = Phase.INSERT
     return False
 
-  # -- cursor 1: the next part ---------------------------------------------------
+  # -- the mover cursor: the next part ------------------------------------------
 
   def _sequence(self):
     if self._plan is None:
@@ -238,7 +236,7 @@ class CursorOracle:
     return points + list(range(len(step.waypoints)))
 
   def _bring_part(self, action, step, base_ready):
-    """Cursor 1 carries the step's part along its route; returns True when it should connect."""
+    """The mover cursor carries the step's part along its route; True when it should connect."""
     physics, task = self._env.physics, self._env.task
     part = step.part
     if self._part != part:
