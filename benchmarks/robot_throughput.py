@@ -9,7 +9,7 @@ mink IK solve. Usage:
 
     python benchmarks/robot_throughput.py [--steps 500] [--furniture NAME] [--robots sawyer ...]
 
-References (table_lack; see docs/robots.md): the original IKEA environment
+References (table_lack; see the README's Robots section): the original IKEA environment
 reported Sawyer impedance 225, Sawyer IK 44 and Cursor 491 steps/s; robosuite
 1.5.2 Lift with Sawyer runs about 55 steps/s on a machine like ours.
 """
@@ -17,8 +17,8 @@ reported Sawyer impedance 225, Sawyer IK 44 and Cursor 491 steps/s; robosuite
 import argparse
 import time
 
-import mujoco
 import numpy as np
+import replay_timing  # benchmarks/replay_timing.py, beside this script
 
 import ikea_suite
 from ikea_suite.robots import control_modes
@@ -59,37 +59,12 @@ def time_robot(env, steps, rng):
   if ik is not None:
     solve = _Timer(ik.step)
     ik.step = solve
-  spec = mujoco.mjtState.mjSTATE_INTEGRATION
   actions = smooth_actions(rng, steps, env.action_spec().shape[0])
   actions[:, -1] = -1.0   # no connect: measure stepping, not snapping
-  env.reset()   # composer may recompile on reset: take model and data after it
-  model, data = env.physics.model._model, env.physics.data._data
-  states, eq_data, env_seconds = [], [], 0.0
-  for action in actions:
-    # The state each step starts from (controls included), recorded outside the timing.
-    state = np.empty(mujoco.mj_stateSize(model, spec))
-    mujoco.mj_getState(model, data, state, spec)
-    states.append(state)
-    eq_data.append(model.eq_data.copy())
-    start = time.perf_counter()
-    last = env.step(action).last()
-    env_seconds += time.perf_counter() - start
-    if last:
-      raise RuntimeError("episode ended during the benchmark; use fewer --steps")
-  substeps = int(round(env.control_timestep() / model.opt.timestep))
+  env_seconds, raw_seconds, substeps = replay_timing.time_env_and_raw(env, actions)
   control_seconds = control.seconds / steps
   ik_seconds = 0.0 if solve is None else solve.seconds / steps
-  # Raw MuJoCo from the same states: same model, contacts and substeps, no Python control.
-  raw_data = mujoco.MjData(model)
-  raw_seconds = 0.0
-  for state, eq in zip(states, eq_data):
-    mujoco.mj_setState(model, raw_data, state, spec)
-    model.eq_data[:] = eq
-    start = time.perf_counter()
-    mujoco.mj_step(model, raw_data, substeps)
-    raw_seconds += time.perf_counter() - start
-  raw_seconds /= steps
-  return env_seconds / steps, raw_seconds, substeps, control_seconds, ik_seconds
+  return env_seconds, raw_seconds, substeps, control_seconds, ik_seconds
 
 
 def main():

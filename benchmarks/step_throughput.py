@@ -11,48 +11,16 @@ one alignment check over all connector pairs. Usage:
 import argparse
 import time
 
-import mujoco
 import numpy as np
+import replay_timing  # benchmarks/replay_timing.py, beside this script
 
 import ikea_suite
 
 
-def time_env_and_raw(env, steps, rng):
-  """Seconds per env.step, and per raw mj_step over the same substeps from the same states.
-
-  Each env step's starting state (integration state plus weld targets) is
-  recorded, then raw MuJoCo steps from each recorded state in turn, so both
-  sides integrate the same contacts and constraints.
-  """
-  state_spec = mujoco.mjtState.mjSTATE_INTEGRATION
-  spec = env.action_spec()
-  actions = rng.uniform(-1, 1, size=(steps,) + spec.shape)
+def random_actions(env, steps, rng):
+  actions = rng.uniform(-1, 1, size=(steps,) + env.action_spec().shape)
   actions[:, -1] = -1.0   # no connect: measure stepping, not snapping
-  states, eq_data = [], []
-  env.reset()
-  env_seconds = 0.0
-  for action in actions:
-    # Fetched every step: a reset may recompile the physics.
-    model, data = env.physics.model._model, env.physics.data._data
-    state = np.empty(mujoco.mj_stateSize(model, state_spec))
-    mujoco.mj_getState(model, data, state, state_spec)
-    states.append(state)
-    eq_data.append(model.eq_data.copy())
-    start = time.perf_counter()
-    last = env.step(action).last()
-    env_seconds += time.perf_counter() - start
-    if last:
-      env.reset()
-  substeps = int(round(env.control_timestep() / model.opt.timestep))
-  raw_data = mujoco.MjData(model)
-  raw_seconds = 0.0
-  for state, eq in zip(states, eq_data):
-    mujoco.mj_setState(model, raw_data, state, state_spec)
-    model.eq_data[:] = eq
-    start = time.perf_counter()
-    mujoco.mj_step(model, raw_data, substeps)
-    raw_seconds += time.perf_counter() - start
-  return env_seconds / steps, raw_seconds / steps, substeps
+  return actions
 
 
 def time_reset(env, repeats=20):
@@ -85,7 +53,8 @@ def main():
   ratios = []
   for name in names:
     env = ikea_suite.load(name, args.robot, seed=0)
-    env_time, raw_time, substeps = time_env_and_raw(env, args.steps, rng)
+    env_time, raw_time, substeps = replay_timing.time_env_and_raw(
+        env, random_actions(env, args.steps, rng))
     ratios.append(env_time / raw_time)
     print(f"{name:32s} {args.robot:8s} {substeps:8d} {1 / env_time:11.0f} {1 / raw_time:11.0f} "
           f"{env_time / raw_time:7.2f} {1e3 * time_reset(env):8.1f} "
