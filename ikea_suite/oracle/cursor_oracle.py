@@ -19,6 +19,7 @@ from ikea_suite.oracle import targets
 from ikea_suite.props import catalog
 from ikea_suite.props import model_format
 from ikea_suite.tasks import placement
+from ikea_suite.tasks import planner
 
 _PER_CURSOR = 7
 _TRAVEL_TOL = 0.05     # metres: pass a travel point this close
@@ -64,6 +65,8 @@ class CursorOracle:
     self._base = 1
     self._plan = None
     self._pivot = None
+    self._preferred = None   # name of the connector the part should be welded by
+    self._anchor = None      # the joined part it is welded to
     self._part = None
     self._points, self._point = [], 0
     self._best, self._since_best = np.inf, 0
@@ -200,15 +203,18 @@ class CursorOracle:
     return next((s for s in self._sequence() if not state.same_group(s.part, root)), None)
 
   def _path_pose(self, step, k):
-    """World pose of insertion-path point k of `step`, following the root as it is now.
+    """World pose of insertion-path point k of `step`, following its partner as it is now.
 
     At the goal the part stops `_STANDOFF` short and is turned a hair about its
     preferred connector's axis, so that connector is the nearest of all that meet
     and the task welds by it.
     """
     physics, task = self._env.physics, self._env.task
-    goal_pos, goal_rot = targets.assembled_pose(physics, task.furniture, task.root_part, step.part)
-    rotation, _ = targets.design_to_world(physics, task.furniture, task.root_part)
+    # Placed relative to the partner it is welded to, not the root: a long chain of
+    # soft welds sags, and the partner's slot is where the part must meet it.
+    anchor = task.root_part if self._anchor is None else self._anchor
+    goal_pos, goal_rot = targets.assembled_pose(physics, task.furniture, anchor, step.part)
+    rotation, _ = targets.design_to_world(physics, task.furniture, anchor)
     pos = goal_pos + rotation @ np.asarray(step.waypoints[k])
     if k < len(step.waypoints) - 1:
       return pos, goal_rot
@@ -225,7 +231,8 @@ class CursorOracle:
     physics, task = self._env.physics, self._env.task
     furniture, root = task.furniture, task.root_part
     joined = [p for p in range(len(furniture.parts)) if task.state.same_group(p, root)]
-    self._pivot = targets.preferred_connector(physics, furniture, step.part, joined)
+    preferred = targets.preferred_connector(physics, furniture, step.part, joined)
+    self._pivot, self._preferred, self._anchor = preferred if preferred else (None, None, root)
     entry, goal_rot = self._path_pose(step, 0)
     centre, radius = targets.assembly_circle(physics, furniture, root)
     reach = radius + targets.part_radius(furniture, step.part) + self._clearance
@@ -289,15 +296,24 @@ class CursorOracle:
       self._best, self._since_best = np.inf, 0
 
   def _insert(self, action, part, distance):
-    """At the goal: connect once some pair of the moving part is well aligned."""
+    """At the goal: connect once the preferred connector's pair is well aligned and is the
+    pair the task would pick (the nearest attachable one); later, by any aligned pair."""
     task, physics = self._env.task, self._env.physics
     scores = task.alignment(physics)
     t = task.thresholds
     table = task.furniture.connectors
     involves = (table.part[table.pair_a] == part) | (table.part[table.pair_b] == part)
-    ready = (involves & (scores.distance < self._tolerance * t.distance)
+    ready = (involves & planner.open_pairs(table, task.state)
+             & (scores.distance < self._tolerance * t.distance)
              & (scores.up_cos > 1 - self._tolerance * (1 - t.up_cos))
              & (scores.forward_cos > 1 - self._tolerance * (1 - t.forward_cos)))
+    # Insist on the preferred pair only for a while: a sagging partner may never let it
+    # be the nearest.
+    if ready.any() and self._preferred is not None and self._since_best < _STUCK_STEPS // 2:
+      attachable = np.flatnonzero(scores.attachable(t) & planner.open_pairs(table, task.state))
+      nearest = attachable[np.argmin(scores.distance[attachable])]   # ready ones are in it
+      names = (table.names[table.pair_a[nearest]], table.names[table.pair_b[nearest]])
+      ready = ready if self._preferred in names else np.zeros_like(ready)
     if ready.any():
       return True
     self._watch(distance)

@@ -121,7 +121,8 @@ def preferred_connector(physics, furniture, part, joined):
   """The connector of `part` to connect by, among those that meet a part in `joined` when
   assembled: one on the root-most, stiffest partner (largest smallest principal inertia,
   since a weld to a thin strip is soft about the strip's axis), nearest the part's centre.
-  Returns (position, up axis), both in the part's frame.
+  Returns (position, up axis) in the part's frame, the connector's name, and the
+  partner part's index.
   """
   spec = furniture.spec
   pose = {p.name: (p.pos, p.rot) for p in spec.parts}
@@ -136,10 +137,10 @@ def preferred_connector(physics, furniture, part, joined):
       if other in joined and m.type == c.mates and model_format._coincide(c, m, pose):
         key = (-inertia[other].min(), float(np.linalg.norm(c.pos)))
         if best is None or key < best[0]:
-          best = (key, c)
+          best = (key, c, other)
   if best is None:
     return None
-  return best[1].pos, best[1].rot[:, 2]
+  return (best[1].pos, best[1].rot[:, 2]), best[1].name, best[2]
 
 
 def tilt_about(pos, rot, pivot_local, axis_local, angle):
