@@ -70,7 +70,6 @@ def variants():
             ("dark_low", dict(length=1.1, height=0.4, depth=0.35, material="wood_dark"))]
   out = [plank_bench(f"bench_plank_{v}", v, **kw) for v, kw in planks]
   slatted = [("oak", {}), ("pine_three", dict(slats=3, length=1.0, depth=0.33, material="wood_light")),
-             ("black_frame", dict(material="birch", frame_material="black_laminate")),
-             ("long_five", dict(slats=5, length=1.6, depth=0.45, material="wood_dark"))]
+             ("black_frame", dict(material="birch", frame_material="black_laminate"))]
   out += [slatted_bench(f"bench_slatted_{v}", v, **kw) for v, kw in slatted]
   return out
