@@ -18,22 +18,16 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 import numpy as np  # noqa: E402
 
 import ikea_suite  # noqa: E402
+from ikea_suite import cli  # noqa: E402
 from ikea_suite.oracle import cursor_oracle  # noqa: E402
 from ikea_suite.props import catalog  # noqa: E402
 
 
 def run(name, seed):
   """One oracle episode; returns (success, connections, steps, seconds)."""
-  env = ikea_suite.load(name, "cursor", seed=seed, **cursor_oracle.episode_options(name))
-  start = time.perf_counter()
-  timestep = env.reset()
-  oracle = cursor_oracle.CursorOracle(env)
-  steps = 0
-  while not timestep.last():
-    timestep = env.step(oracle(timestep))
-    steps += 1
-  state = env.task.state
-  return state.complete, len(state.connections), steps, time.perf_counter() - start
+  env = ikea_suite.load(name, "cursor", seed=seed)
+  summary = cli.run_episode(env, cursor_oracle.CursorOracle(env))
+  return summary["success"], summary["connections"], summary["steps"], summary["seconds"]
 
 
 def main(argv=None):

@@ -39,6 +39,11 @@ class Environment(composer.Environment):
     self._action_names = list(task.action_names)
     self._checked_spec = None
 
+  @property
+  def time_limit(self):
+    """Seconds of simulated time after which an episode is truncated."""
+    return self._time_limit
+
   def action_spec(self):
     if self._checked_spec is None:  # fixed for the task's lifetime; built once
       self._checked_spec = super().action_spec()

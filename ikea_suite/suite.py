@@ -22,10 +22,18 @@ TASK_OPTIONS = ("control_timestep", "physics_timestep", "connection_reward", "co
 THRESHOLD_OPTIONS = {"distance_threshold": "distance", "up_threshold": "up_cos",
                      "forward_threshold": "forward_cos"}
 ENVIRONMENT_OPTIONS = ("time_limit",)
-# Scene preset, placement, randomization and cameras: see docs/observations.md.
+# Scene preset, placement, randomization and cameras: see the README, "Observations, scenes and domain randomization".
 SCENE_OPTIONS = (("scene",) + placement.OPTIONS + randomization.OPTIONS
                  + camera_observables.OPTIONS)
-DEFAULT_TIME_LIMIT = 150.0   # seconds of simulated time: 3000 control steps at 20 Hz
+# Default episode length in simulated seconds: a start-up allowance plus a
+# fixed budget per part (500 control steps at 20 Hz), so larger furniture gets
+# proportionally longer episodes.
+TIME_LIMIT_BASE = 30.0
+TIME_LIMIT_PER_PART = 25.0
+
+
+def default_time_limit(num_parts):
+  return TIME_LIMIT_BASE + TIME_LIMIT_PER_PART * num_parts
 
 
 def _robot_options(factory):
@@ -36,12 +44,12 @@ def _robot_options(factory):
 def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options):
   """Builds the assembly environment of `furniture` with `robot`.
 
-  Options: time_limit (s); control_timestep, physics_timestep (s);
+  Options: time_limit (s; default 30 + 25 per part); control_timestep, physics_timestep (s);
   connection_reward, completion_bonus; distance_threshold (m), up_threshold
   and forward_threshold (cosines); and the robot's own options (for the
   cursor: move_speed, rotate_speed, grasp_margin, workspace, radius).
   Scene: scene (preset name), spread, preassembled, yaw_range, randomize;
-  images: cameras, camera_outputs, image_size, goal_image (docs/observations.md).
+  images: cameras, camera_outputs, image_size, goal_image (README: "Observations, scenes and domain randomization").
   Unknown names raise UnknownNameError listing the valid ones.
   """
   path = catalog.path_of(furniture)
@@ -66,8 +74,8 @@ def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options)
       **{k: options[k] for k in TASK_OPTIONS if k in options})
   randomization.attach(task, **picked(randomization.OPTIONS))
   camera_observables.attach(task, **picked(camera_observables.OPTIONS))
-  return environment.Environment(
-      task, time_limit=options.get("time_limit", DEFAULT_TIME_LIMIT), random_state=seed)
+  time_limit = options.get("time_limit", default_time_limit(len(furniture_prop.parts)))
+  return environment.Environment(task, time_limit=time_limit, random_state=seed)
 
 
 def furniture_names(tag=None, min_parts=None, max_parts=None):

@@ -2,7 +2,7 @@
 
     MUJOCO_GL=egl python scripts/render_gallery.py [--out docs/gallery.png] [--columns 10]
 
-Tiles run in catalog (name) order, left to right, top to bottom; docs/catalog.md
+Tiles run in catalog (name) order, left to right, top to bottom; the README (Furniture catalog)
 lists the same order. Plain MuJoCo renders each model file as written: the
 furniture stands assembled on its floor, collision geoms hidden.
 """

@@ -84,7 +84,7 @@ def test_controller_requires_task_space_mode():
 def test_sawyer_carries_a_welded_assembly_by_one_part():
   env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=1)
   timestep = env.reset()
-  physics, task, robot = env.physics, env.task, env.task.robot
+  physics, task = env.physics, env.task
   top = task.root_part
   # A 9 kg top is beyond the 20 N gripper; a 0.3 kg top (a light panel) is not.
   body = task.furniture.body_ids[top]

@@ -67,3 +67,11 @@ def test_thresholds_are_options():
 def test_robot_options_reach_the_robot():
   env = ikea_suite.load(seed=0, move_speed=0.25)
   assert env.task.robot._move_speed == 0.25
+
+
+def test_time_limit_scales_with_the_part_count():
+  small = ikea_suite.load("stool_round_frosta", seed=0)
+  large = ikea_suite.load("bookcase_shelf_unit_billy", seed=0)
+  assert small.time_limit == ikea_suite.suite.default_time_limit(len(small.task.furniture.parts))
+  assert small.time_limit < large.time_limit
+  assert ikea_suite.load("stool_round_frosta", seed=0, time_limit=3.0).time_limit == 3.0

@@ -16,9 +16,6 @@ import numpy as np
 from ikea_suite import geometry
 from ikea_suite.design import sequence
 from ikea_suite.oracle import targets
-from ikea_suite.props import catalog
-from ikea_suite.props import model_format
-from ikea_suite.tasks import placement
 from ikea_suite.tasks import planner
 
 _PER_CURSOR = 7
@@ -32,11 +29,6 @@ _PIVOT_TILT = 0.03     # radians: how far the goal turns about the preferred con
 _GRAB_RANGE = 0.02     # metres from the grasp point at which a cursor selects
 LIFT = 0.3   # the assembly is held this high: parts still lying on the floor pass beneath
 _FLOOR_CLEARANCE = 0.25   # metres above the floor parts are carried (lying parts are lower)
-_START_SECONDS = 30.0
-_SECONDS_PER_PART = 25.0   # simulated seconds (500 control steps) per part
-_WIDE_REACH = 6.0          # metres: the workspace half-width for large furniture
-_CROWDED = 6               # more parts than this may widen the placement ring
-_DEFAULT_REACH = (2.0, 2.0)   # the cursor's default workspace: half-width and height
 _STUCK_STEPS = 80      # steps without progress at one target before backing off
 
 
@@ -81,7 +73,7 @@ class CursorOracle:
   def _move_to(self, action, i, target):
     robot = self._env.task.robot
     pos, _ = self._cursor(i)
-    step = robot._move_speed * self._env.control_timestep()
+    step = robot.move_speed * self._env.control_timestep()
     action[i * _PER_CURSOR:i * _PER_CURSOR + 3] = np.clip(self._gain * (target - pos) / step, -1, 1)
 
   def _drive_part(self, action, i, part, target_pos, target_rot, gain=None):
@@ -102,15 +94,15 @@ class CursorOracle:
       bias_pos = np.clip(bias_pos + _INTEGRAL * error_pos, -_MAX_BIAS[0], _MAX_BIAS[0])
       bias_rot = np.clip(bias_rot + _INTEGRAL * error_rot, -_MAX_BIAS[1], _MAX_BIAS[1])
       self._bias[i] = (bias_pos, bias_rot)
-    goal_rot = geometry.axis_angle_to_mat(bias_rot) @ target_rot @ robot._grip_rot[i].T
+    goal_rot = geometry.axis_angle_to_mat(bias_rot) @ target_rot @ robot.grip_offset(i)[1].T
     cursor_pos, cursor_rot = self._cursor(i)
     turn_cmd = np.clip(geometry.mat_to_axis_angle(goal_rot @ cursor_rot.T)
-                       / (robot._rotate_speed * dt), -1, 1)
-    next_rot = geometry.axis_angle_to_mat(turn_cmd * robot._rotate_speed * dt) @ cursor_rot
-    goal_pos = target_pos + bias_pos - next_rot @ robot._grip_pos[i]
+                       / (robot.rotate_speed * dt), -1, 1)
+    next_rot = geometry.axis_angle_to_mat(turn_cmd * robot.rotate_speed * dt) @ cursor_rot
+    goal_pos = target_pos + bias_pos - next_rot @ robot.grip_offset(i)[0]
     move = (goal_pos - cursor_pos) * (self._gain if gain is None else gain)
     base = i * _PER_CURSOR
-    action[base:base + 3] = np.clip(move / (robot._move_speed * dt), -1, 1)
+    action[base:base + 3] = np.clip(move / (robot.move_speed * dt), -1, 1)
     action[base + 3:base + 6] = turn_cmd
     return np.linalg.norm(error_pos), np.linalg.norm(error_rot)
 
@@ -349,25 +341,3 @@ class CursorOracle:
     if self._bring_part(action, step, base_ready):
       action[-1] = 1.0
     return action
-
-
-def episode_options(name):
-  """load() options under which the oracle is expected to assemble `name`.
-
-  Time: `_SECONDS_PER_PART` of simulated time per part plus a start-up
-  allowance. Workspace: the cursors must reach every part the initial
-  placement may scatter, which for large furniture lies beyond the default
-  2 m (the ring starts past the assembled footprint and is 0.9 m wide).
-  """
-  spec = model_format.load_spec(catalog.path_of(name))
-  # A part's centre lies at most its own radius (lying flat: half its largest
-  # diagonal) plus the ring's clearance and width beyond the assembled footprint.
-  # A crowded ring widens, so past the default the workspace gets a wide margin.
-  radius = max(np.linalg.norm(p.bounds[1] - p.bounds[0]) / 2 for p in spec.parts)
-  reach = float(placement.assembled_radius(spec) + 0.15 + 0.9 + radius + 0.1)
-  top = max(float((p.pos + p.rot @ p.bounds[1])[2]) for p in spec.parts) + LIFT + 0.3
-  options = {"time_limit": _START_SECONDS + _SECONDS_PER_PART * len(spec.parts)}
-  if reach > _DEFAULT_REACH[0] or top > _DEFAULT_REACH[1] or len(spec.parts) > _CROWDED:
-    half = _WIDE_REACH
-    options["workspace"] = ((-half, -half, 0.0), (half, half, max(top, _DEFAULT_REACH[1])))
-  return options

@@ -27,7 +27,7 @@ class Cursor(base.Robot):
   """Two cursors; their poses live in physics state as slide + ball joints."""
 
   def _build(self, name="cursor", move_speed=0.5, rotate_speed=np.pi / 2, grasp_margin=0.02,
-             workspace=((-2.0, -2.0, 0.0), (2.0, 2.0, 2.0)), radius=0.025):
+             workspace=((-6.0, -6.0, 0.0), (6.0, 6.0, 3.0)), radius=0.025):
     self._mjcf_root = mjcf.RootElement(model=name)
     self._move_speed = float(move_speed)
     self._rotate_speed = float(rotate_speed)
@@ -57,6 +57,20 @@ class Cursor(base.Robot):
   @property
   def action_names(self):
     return [f"cursor{i}_{a}" for i in range(NUM_CURSORS) for a in _PER_CURSOR]
+
+  @property
+  def move_speed(self):
+    """Metres per second at a move action of 1."""
+    return self._move_speed
+
+  @property
+  def rotate_speed(self):
+    """Radians per second at a rotate action of 1."""
+    return self._rotate_speed
+
+  def grip_offset(self, i):
+    """Pose (position, rotation) of the part cursor i holds, in the cursor's frame."""
+    return self._grip_pos[i].copy(), self._grip_rot[i].copy()
 
   @property
   def held_parts(self):

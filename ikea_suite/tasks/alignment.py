@@ -36,23 +36,35 @@ class PairAlignment:
             & (self.forward_cos > thresholds.forward_cos))
 
 
-def _in_plane(vectors, normal):
-  """Unit projections of `vectors` onto the planes normal to `normal` (both (p, 3))."""
-  projected = vectors - normal * np.einsum("pi,pi->p", vectors, normal)[:, None]
-  return projected / np.maximum(np.linalg.norm(projected, axis=1, keepdims=True), 1e-9)
+def _dot(a, b):
+  return np.einsum("pi,pi->p", a, b)
+
+
+def _unit(vectors):
+  return vectors / np.maximum(np.sqrt(_dot(vectors, vectors)), 1e-9)[:, None]
+
+
+def _triple(a, b, c):
+  """a . (b x c) per row, written out: numpy's cross costs more than the rest of the test."""
+  return (a[:, 0] * (b[:, 1] * c[:, 2] - b[:, 2] * c[:, 1])
+          + a[:, 1] * (b[:, 2] * c[:, 0] - b[:, 0] * c[:, 2])
+          + a[:, 2] * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0]))
 
 
 def align_pairs(pos, rot, table):
   """Scores every candidate pair of `table` given connector world frames (c,3) and (c,3,3)."""
   a, b = table.pair_a, table.pair_b
   rot_a, rot_b = rot[a], rot[b]
-  distance = np.linalg.norm(pos[a] - pos[b], axis=1)
-  up_cos = np.einsum("pi,pi->p", rot_a[:, :, 2], rot_b[:, :, 2])
-  up = rot_a[:, :, 2] + rot_b[:, :, 2]
-  up /= np.maximum(np.linalg.norm(up, axis=1, keepdims=True), 1e-9)
-  fwd_a, fwd_b = _in_plane(rot_a[:, :, 0], up), _in_plane(rot_b[:, :, 0], up)
-  c = np.einsum("pi,pi->p", fwd_a, fwd_b)                     # cos of the measured twist
-  s = np.einsum("pi,pi->p", np.cross(up, fwd_a), fwd_b)       # sin of the measured twist
+  gap = pos[a] - pos[b]
+  distance = np.sqrt(_dot(gap, gap))
+  up_cos = _dot(rot_a[:, :, 2], rot_b[:, :, 2])
+  up = _unit(rot_a[:, :, 2] + rot_b[:, :, 2])
+  # Forward vectors projected into the plane normal to the mean up vector.
+  fwd_a, fwd_b = rot_a[:, :, 0], rot_b[:, :, 0]
+  fwd_a = _unit(fwd_a - up * _dot(fwd_a, up)[:, None])
+  fwd_b = _unit(fwd_b - up * _dot(fwd_b, up)[:, None])
+  c = _dot(fwd_a, fwd_b)              # cos of the measured twist
+  s = _triple(up, fwd_a, fwd_b)       # sin of the measured twist: (up x fwd_a) . fwd_b
   per_twist = table.twist_cos * c[:, None] + table.twist_sin * s[:, None]
   per_twist = np.where(table.twist_valid, per_twist, -np.inf)
   best = np.argmax(per_twist, axis=1)
