@@ -93,7 +93,7 @@ def test_assembly_sequences_insert_every_part_along_a_free_path(name):
   for s in steps:
     assert np.allclose(s.waypoints[-1], 0) and len(s.waypoints) >= 2
   # Each part joins something already there.
-  pairs = validate.coinciding_pairs(spec)
+  pairs = model_format.coinciding_pairs(spec)
   placed = {root}
   for s in steps:
     assert any((min(s.part, p), max(s.part, p)) in pairs for p in placed), spec.parts[s.part].name

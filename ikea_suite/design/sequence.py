@@ -148,7 +148,7 @@ def plan(path, root, lift=0.15):
   """
   spec = model_format.load_spec(str(path))
   scene = _Scene(spec, lift)
-  edges = _design_edges(spec)
+  edges = model_format.coinciding_pairs(spec)
   present = set(range(len(spec.parts)))
   removed = []
   while len(present) > 1:
@@ -180,12 +180,3 @@ def _next_removal(scene, present, root, edges):
   return None
 
 
-def _design_edges(spec):
-  index = {p.name: i for i, p in enumerate(spec.parts)}
-  pose = {p.name: (p.pos, p.rot) for p in spec.parts}
-  edges = set()
-  for a in spec.connectors:
-    for b in spec.connectors:
-      if a.part != b.part and a.mates == b.type and model_format._coincide(a, b, pose):
-        edges.add(tuple(sorted((index[a.part], index[b.part]))))
-  return sorted(edges)

@@ -43,18 +43,6 @@ class Report:
     return not self.problems
 
 
-def coinciding_pairs(spec):
-  """Part index pairs joined by a mating connector pair that coincides when assembled."""
-  index = {p.name: i for i, p in enumerate(spec.parts)}
-  pose = {p.name: (p.pos, p.rot) for p in spec.parts}
-  pairs = set()
-  for a in spec.connectors:
-    for b in spec.connectors:
-      if a.part != b.part and a.mates == b.type and model_format._coincide(a, b, pose):
-        pairs.add(tuple(sorted((index[a.part], index[b.part]))))
-  return sorted(pairs)
-
-
 def graph_components(num_parts, pairs):
   """Connected components (lists of part indices) of the assembly graph."""
   parent = list(range(num_parts))
@@ -109,7 +97,7 @@ def check(path):
   except errors.ModelFormatError as e:
     return Report(name, [f"format: {e}"])
   problems = []
-  components = graph_components(len(spec.parts), coinciding_pairs(spec))
+  components = graph_components(len(spec.parts), model_format.coinciding_pairs(spec))
   if len(components) > 1:
     names = [[spec.parts[i].name for i in group] for group in components]
     problems.append(f"graph: parts fall into {len(components)} unconnected groups {names}")

@@ -214,6 +214,18 @@ def _coincide(a, b, pose):
   return any(rot_b[:, 0] @ (rot_a @ geometry.rot_z(t))[:, 0] > _COINCIDE_COS for t in a.twists)
 
 
+def coinciding_pairs(spec):
+  """Part index pairs (i < j) joined by a mating connector pair that coincides when assembled."""
+  index = {p.name: i for i, p in enumerate(spec.parts)}
+  pose = {p.name: (p.pos, p.rot) for p in spec.parts}
+  pairs = set()
+  for a in spec.connectors:
+    for b in spec.connectors:
+      if a.part != b.part and a.mates == b.type and _coincide(a, b, pose):
+        pairs.add(tuple(sorted((index[a.part], index[b.part]))))
+  return sorted(pairs)
+
+
 @functools.lru_cache(maxsize=256)
 def load_spec(path):
   """Parses and validates a furniture file; raises ModelFormatError on any fault."""
