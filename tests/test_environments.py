@@ -17,17 +17,29 @@ def random_rollout(env, steps, seed):
   return timesteps
 
 
+def assert_same_rollouts(first, second):
+  for a, b in zip(first, second, strict=True):
+    assert a.reward == b.reward
+    for name in a.observation:
+      np.testing.assert_array_equal(a.observation[name], b.observation[name])
+
+
 @pytest.mark.parametrize("furniture, robot", ALL, ids=[f"{f}-{r}" for f, r in ALL])
-def test_observations_match_spec_and_rewards_are_finite(furniture, robot):
+def test_observations_match_spec_rewards_finite_and_episodes_repeat(furniture, robot):
   env = ikea_suite.load(furniture, robot, seed=0)
   observation_spec = env.observation_spec()
-  for timestep in random_rollout(env, steps=5, seed=1):
+  start = env.random_state.get_state()
+  rollout = random_rollout(env, steps=5, seed=1)
+  for timestep in rollout:
     assert set(timestep.observation) == set(observation_spec)
     for name, spec in observation_spec.items():
       spec.validate(timestep.observation[name])
     if not timestep.first():
       assert np.isfinite(timestep.reward) and 0.0 <= timestep.reward <= 100.0
       assert timestep.discount in (0.0, 1.0)
+  # The episode is a function of the environment's random state (what `seed` sets).
+  env.random_state.set_state(start)
+  assert_same_rollouts(rollout, random_rollout(env, steps=5, seed=1))
   env.close()
 
 
@@ -46,10 +58,7 @@ def test_same_seed_same_episode(furniture, robot):
     env = ikea_suite.load(furniture, robot, seed=7)
     runs.append(random_rollout(env, steps=10, seed=3))
     env.close()
-  for a, b in zip(*runs):
-    assert a.reward == b.reward
-    for name in a.observation:
-      np.testing.assert_array_equal(a.observation[name], b.observation[name])
+  assert_same_rollouts(*runs)
 
 
 def test_different_seeds_place_parts_differently():
