@@ -5,7 +5,6 @@ arms, right arm first: each arm's entries are prefixed `right_` / `left_`.
 """
 
 import numpy as np
-from dm_control import mjcf
 
 from ikea_suite.robots import grippers
 from ikea_suite.robots import manipulator
@@ -24,12 +23,8 @@ class Baxter(manipulator.Manipulator):
   REACH = 0.95
 
   def _build_body(self, name):
-    facts = robot_facts.load("baxter")
-    root = mjcf.RootElement(model=name)
-    root.compiler.angle = "radian"   # the fact sheets are in radians
-    elements = robot_facts.add_tree(root.worldbody, facts, skip=("base",),
-                                    root="fixed_base_link", pos=[0, 0, 0])
-    limits = robot_facts.actuator_limits(facts)
+    root, elements, limits = robot_facts.build_model(
+        name, "baxter", root="fixed_base_link", pos=[0, 0, 0])
     arms = []
     for side, y in (("right", -1.0), ("left", 1.0)):
       joints = [f"{side}_{s}" for s in _JOINT_SUFFIXES]

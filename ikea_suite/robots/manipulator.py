@@ -45,6 +45,16 @@ class Arm:
   workspace: np.ndarray       # (2, 3) box in the base frame the tool is kept in
 
 
+def single_arm(root, elements, limits, joints, gripper_spec, seed, home_tcp, workspace_box):
+  """The one Arm of a single-arm robot whose joints, hand and camera follow the sheets' names."""
+  gripper = grippers.build(elements["right_hand"], gripper_spec, prefix="right_")
+  return Arm(
+      prefix="", joints=[root.find("joint", j) for j in joints],
+      torque_limits=np.array([limits[j][1] for j in joints]), gripper=gripper,
+      camera=root.find("camera", "eye_in_hand"), seed=np.array(seed),
+      home_tcp=np.array(home_tcp), workspace=np.array(workspace_box))
+
+
 class Manipulator(base.Robot):
   """An arm robot on a fixed base; see control_modes for the action of each mode."""
 

@@ -6,7 +6,6 @@ the box bounding its visual mesh.
 """
 
 import numpy as np
-from dm_control import mjcf
 
 from ikea_suite.robots import grippers
 from ikea_suite.robots import manipulator
@@ -24,16 +23,7 @@ class Panda(manipulator.Manipulator):
   REACH = 0.8
 
   def _build_body(self, name):
-    facts = robot_facts.load("panda")
-    root = mjcf.RootElement(model=name)
-    root.compiler.angle = "radian"   # the fact sheets are in radians
-    elements = robot_facts.add_tree(root.worldbody, facts, skip=("base",), root="link0")
-    gripper = grippers.build(elements["right_hand"], grippers.FRANKA_HAND, prefix="right_")
-    limits = robot_facts.actuator_limits(facts)
-    arm = manipulator.Arm(
-        prefix="", joints=[root.find("joint", j) for j in JOINTS],
-        torque_limits=np.array([limits[j][1] for j in JOINTS]), gripper=gripper,
-        camera=root.find("camera", "eye_in_hand"), seed=np.array(_SEED),
-        home_tcp=np.array([0.45, 0.0, 0.35]),
-        workspace=np.array([[-0.45, -0.8, 0.005], [0.9, 0.8, 0.9]]))
-    return root, [arm]
+    root, elements, limits = robot_facts.build_model(name, "panda", root="link0")
+    return root, [manipulator.single_arm(
+        root, elements, limits, JOINTS, grippers.FRANKA_HAND, _SEED, home_tcp=(0.45, 0.0, 0.35),
+        workspace_box=[[-0.45, -0.8, 0.005], [0.9, 0.8, 0.9]])]

@@ -11,6 +11,7 @@ import json
 import pathlib
 
 import numpy as np
+from dm_control import mjcf
 
 from ikea_suite import errors
 
@@ -131,3 +132,12 @@ def add_tree(parent, facts, root=None, name_prefix="", skip=(), gravcomp=1.0, po
     else:
       elements[name] = add_body(elements[body["parent"]], body, name_prefix, gravcomp=gravcomp)
   return elements
+
+
+def build_model(name, robot, root, **tree_options):
+  """(mjcf root, elements by body name, actuator limits) of a robot from its fact sheet."""
+  facts = load(robot)
+  model = mjcf.RootElement(model=name)
+  model.compiler.angle = "radian"   # the fact sheets are in radians
+  elements = add_tree(model.worldbody, facts, skip=("base",), root=root, **tree_options)
+  return model, elements, actuator_limits(facts)

@@ -4,8 +4,6 @@ Base on the floor at (-0.55, 0, 0), facing +x (towards the assembly area at
 the origin). Colours follow the real robot: red links, white and dark trim.
 """
 
-import numpy as np
-from dm_control import mjcf
 
 from ikea_suite.robots import grippers
 from ikea_suite.robots import manipulator
@@ -24,17 +22,7 @@ class Sawyer(manipulator.Manipulator):
   REACH = 0.85
 
   def _build_body(self, name):
-    facts = robot_facts.load("sawyer")
-    root = mjcf.RootElement(model=name)
-    root.compiler.angle = "radian"   # the fact sheets are in radians
-    elements = robot_facts.add_tree(root.worldbody, facts, skip=("base",),
-                                    root="right_arm_base_link")
-    gripper = grippers.build(elements["right_hand"], grippers.RETHINK, prefix="right_")
-    limits = robot_facts.actuator_limits(facts)
-    arm = manipulator.Arm(
-        prefix="", joints=[root.find("joint", j) for j in JOINTS],
-        torque_limits=np.array([limits[j][1] for j in JOINTS]), gripper=gripper,
-        camera=root.find("camera", "eye_in_hand"), seed=np.array(_SEED),
-        home_tcp=np.array([0.45, 0.0, 0.35]),
-        workspace=np.array([[-0.5, -0.9, 0.005], [1.0, 0.9, 1.0]]))
-    return root, [arm]
+    root, elements, limits = robot_facts.build_model(name, "sawyer", root="right_arm_base_link")
+    return root, [manipulator.single_arm(
+        root, elements, limits, JOINTS, grippers.RETHINK, _SEED, home_tcp=(0.45, 0.0, 0.35),
+        workspace_box=[[-0.5, -0.9, 0.005], [1.0, 0.9, 1.0]])]
