@@ -48,6 +48,7 @@ class Assembly(composer.Task):
       initializer = robot.part_initializer(furniture, initializer)
     self._initializer = initializer
     self._step_reward = 0.0
+    self._blocked = ()
     self._suggestion_key = None
     self._task_observables = {
         "connections": observable.Generic(lambda physics: self._state.adjacency.copy()),
@@ -99,6 +100,7 @@ class Assembly(composer.Task):
 
   def before_step(self, physics, action, random_state):
     self._step_reward = 0.0
+    self._blocked = ()
     self._robot.apply_action(physics, action[:-1], random_state)
     if action[-1] > 0 and self.try_connect(physics):
       self._step_reward += self._connection_reward
@@ -135,6 +137,11 @@ class Assembly(composer.Task):
   @property
   def thresholds(self):
     return self._thresholds
+
+  @property
+  def blocked_connections(self):
+    """Why `connect` made no connection on the last step: one message per refused pair."""
+    return self._blocked
 
   @property
   def root_part(self):
