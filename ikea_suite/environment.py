@@ -35,6 +35,9 @@ class Environment(composer.Environment):
   def __init__(self, task, **kwargs):
     kwargs.setdefault("raise_exception_on_physics_error", False)
     kwargs.setdefault("strip_singleton_obs_buffer_dim", True)
+    # Nothing in an episode changes the MJCF: compile once, and let reset restore
+    # state, variations and placement on the same Physics (and its render contexts).
+    kwargs.setdefault("recompile_mjcf_every_episode", False)
     super().__init__(task, **kwargs)
     self._action_names = list(task.action_names)
     self._checked_spec = None

@@ -35,3 +35,7 @@ class ActionError(IkeaSuiteError, ValueError):
 
 class OptionValueError(IkeaSuiteError, ValueError):
   """An option of load() with a value outside its valid range or choices."""
+
+
+class SequenceError(IkeaSuiteError, ValueError):
+  """A furniture for which no assembly order with free insertion paths was found."""

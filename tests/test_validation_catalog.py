@@ -11,7 +11,7 @@ from ikea_suite.design import blueprint as bp
 from ikea_suite.design import decompose
 from ikea_suite.design import import_model
 from ikea_suite.design import mjcf_writer
-from ikea_suite.design import sequence
+from ikea_suite.assembly import sequence
 from ikea_suite.design import shapes
 from ikea_suite.design import validate
 from ikea_suite.props import catalog

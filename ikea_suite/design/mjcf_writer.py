@@ -1,17 +1,19 @@
 """Writes a Blueprint as one self-describing furniture MJCF file (see model_format)."""
 
 import pathlib
+import types
 import xml.etree.ElementTree as ET
 
 import numpy as np
 
 from ikea_suite import geometry
+from ikea_suite import physics_settings
+from ikea_suite.assembly import mating
 from ikea_suite.design import materials
 from ikea_suite.props import model_format
 
 MESH_FORMAT = "stl"   # binary STL: compact, and MuJoCo reads it directly
 MESH_DIR = "meshes"
-WELD_SOLREF = "0.01 1"   # as stiff as the task's welds (ikea_suite.tasks.welds)
 
 
 def _fmt(values):
@@ -54,6 +56,9 @@ def blueprint_to_xml(blueprint, mesh_files=None):
     mesh_files = mesh_file_names(blueprint)
   root = ET.Element("mujoco", model=blueprint.name)
   ET.SubElement(root, "compiler", angle="radian", meshdir=MESH_DIR)
+  # The suite's physics, so the file behaves in plain MuJoCo as it does in the suite.
+  ET.SubElement(root, "option", {k: f"{v:g}" if isinstance(v, float) else str(v)
+                                 for k, v in physics_settings.OPTION.items()})
   custom = ET.SubElement(root, "custom")
   meta = (f"category={blueprint.category}; family={blueprint.family}; "
           f"variant={blueprint.variant}; description={blueprint.description}")
@@ -79,28 +84,27 @@ def blueprint_to_xml(blueprint, mesh_files=None):
       ET.SubElement(custom, "text", name=model_format.CONNECTOR_PREFIX + c.name,
                     data=f"type={c.type}; mates={c.mates}; twists={twists}")
   # Holds the furniture together when the file is simulated in plain MuJoCo: one
-  # weld per pair of parts with coinciding mates, as if every joint were screwed.
-  # ikea_suite ignores this block and declares its own inactive welds.
+  # weld per pair of parts with coinciding mates, as the task welds them once
+  # assembled. ikea_suite ignores this block and declares its own inactive welds.
   equality = ET.SubElement(root, "equality")
   for a, b in _mated_pairs(blueprint):
-    ET.SubElement(equality, "weld", body1=a, body2=b, solref=WELD_SOLREF)
+    ET.SubElement(equality, "weld", body1=a, body2=b, solref=_fmt(physics_settings.WELD_SOLREF),
+                  solimp=_fmt(physics_settings.WELD_SOLIMP),
+                  torquescale=f"{physics_settings.WELD_TORQUESCALE:g}")
   ET.indent(root, space="  ")
   return ET.tostring(root, encoding="unicode") + "\n"
 
 
 def _mated_pairs(blueprint):
   """Names of part pairs joined by coinciding mating connectors, in part order."""
-  parts = blueprint.parts
-  return [(a.name, b.name) for i, a in enumerate(parts) for b in parts[i + 1:] if _mated(a, b)]
-
-
-def _mated(a, b):
-  for ca in a.connectors:
-    pa = a.pos + a.rot @ ca.pos
-    for cb in b.connectors:
-      if ca.mates == cb.type and np.linalg.norm(pa - (b.pos + b.rot @ cb.pos)) < 1e-6:
-        return True
-  return False
+  connectors = [types.SimpleNamespace(part=p.name, type=c.type, mates=c.mates, pos=c.pos,
+                                      rot=c.rot, twists=np.radians(c.twists_deg))
+                for p in blueprint.parts for c in p.connectors]
+  pose = {p.name: (p.pos, p.rot) for p in blueprint.parts}
+  order = {p.name: i for i, p in enumerate(blueprint.parts)}
+  pairs = {tuple(sorted((connectors[a].part, connectors[b].part), key=order.get))
+           for a, b in mating.coinciding_connector_pairs(connectors, pose)}
+  return sorted(pairs, key=lambda pair: (order[pair[0]], order[pair[1]]))
 
 
 def model_files(blueprint):

@@ -2,7 +2,7 @@
 
 The base cursor lifts the root part to its assembled pose (raised by `lift`) and
 holds it there. The other cursor brings the other parts in the order of an assembly
-sequence found by disassembly (ikea_suite.design.sequence): grab a part,
+sequence found by disassembly (ikea_suite.assembly.sequence): grab a part,
 raise it, carry it round the outside of the furniture while turning it to its
 assembled orientation, then follow the part's free insertion path in and
 issue connect. It emits the same 15-number action a learning agent does;
@@ -14,7 +14,7 @@ import enum
 import numpy as np
 
 from ikea_suite import geometry
-from ikea_suite.design import sequence
+from ikea_suite.assembly import sequence
 from ikea_suite.oracle import targets
 from ikea_suite.tasks import planner
 
@@ -27,7 +27,7 @@ _MAX_BIAS = (0.08, 0.4)    # metres, radians: the most sag the integral term tak
 _STANDOFF = 0.005      # metres short of the goal along the insertion path
 _PIVOT_TILT = 0.03     # radians: how far the goal turns about the preferred connector
 _GRAB_RANGE = 0.02     # metres from the grasp point at which a cursor selects
-LIFT = 0.3   # the assembly is held this high: parts still lying on the floor pass beneath
+LIFT = sequence.HOLD_LIFT   # the assembly is held this high: parts on the floor pass beneath
 _FLOOR_CLEARANCE = 0.25   # metres above the floor parts are carried (lying parts are lower)
 _STUCK_STEPS = 80      # steps without progress at one target before backing off
 

@@ -3,7 +3,6 @@
 import numpy as np
 
 from ikea_suite import geometry
-from ikea_suite.props import model_format
 
 _ARC_STEP = np.radians(30)
 
@@ -125,16 +124,13 @@ def preferred_connector(physics, furniture, part, joined):
   partner part's index.
   """
   spec = furniture.spec
-  pose = {p.name: (p.pos, p.rot) for p in spec.parts}
   index = {p.name: i for i, p in enumerate(spec.parts)}
   inertia = physics.model.body_inertia[furniture.body_ids]
   best = None
-  for c in spec.connectors:
-    if c.part != spec.parts[part].name:
-      continue
-    for m in spec.connectors:
+  for a, b in spec.assembled_connector_pairs():
+    for c, m in ((spec.connectors[a], spec.connectors[b]), (spec.connectors[b], spec.connectors[a])):
       other = index[m.part]
-      if other in joined and m.type == c.mates and model_format._coincide(c, m, pose):
+      if index[c.part] == part and other in joined:
         key = (-inertia[other].min(), float(np.linalg.norm(c.pos)))
         if best is None or key < best[0]:
           best = (key, c, other)

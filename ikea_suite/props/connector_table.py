@@ -2,6 +2,8 @@
 
 import numpy as np
 
+from ikea_suite.assembly import mating
+
 
 class ConnectorTable:
   """Part-frame connector geometry and the precomputed list of mating pairs.
@@ -18,7 +20,7 @@ class ConnectorTable:
     self.local_pos = np.array([c.pos for c in spec.connectors])
     self.local_rot = np.array([c.rot for c in spec.connectors])
     pairs = [(a, b) for a, ca in enumerate(spec.connectors) for b, cb in enumerate(spec.connectors)
-             if a < b and ca.mates == cb.type and ca.part != cb.part]
+             if a < b and mating.types_mate(ca, cb)]
     self.pair_a = np.array([a for a, _ in pairs], dtype=int)
     self.pair_b = np.array([b for _, b in pairs], dtype=int)
     twists = [spec.connectors[a].twists for a, _ in pairs]

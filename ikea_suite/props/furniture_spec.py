@@ -9,6 +9,8 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from ikea_suite.assembly import mating
+
 
 @dataclasses.dataclass(frozen=True)
 class ConnectorSpec:
@@ -55,13 +57,13 @@ class FurnitureSpec:
   def part_index(self, name):
     return [p.name for p in self.parts].index(name)
 
+  def assembled_connector_pairs(self):
+    """(a, b) connector index pairs, a < b, that mate and coincide in the assembled pose."""
+    pose = {p.name: (p.pos, p.rot) for p in self.parts}
+    return mating.coinciding_connector_pairs(self.connectors, pose)
+
   def mating_part_pairs(self):
     """Sorted pairs (i, j), i < j, of parts with at least one mating connector pair."""
     index = {p.name: i for i, p in enumerate(self.parts)}
-    pairs = set()
-    for a in self.connectors:
-      for b in self.connectors:
-        if a.mates == b.type and a.part != b.part:
-          i, j = sorted((index[a.part], index[b.part]))
-          pairs.add((i, j))
-    return sorted(pairs)
+    return sorted({tuple(sorted((index[a.part], index[b.part])))
+                   for a in self.connectors for b in self.connectors if mating.types_mate(a, b)})

@@ -19,14 +19,13 @@ import numpy as np
 
 from ikea_suite import errors
 from ikea_suite import geometry
+from ikea_suite.assembly import mating
 from ikea_suite.props import furniture_spec
 
 CONNECTOR_PREFIX = "connector:"
 FURNITURE_TEXT = "furniture"
 MAX_PARTS = 30          # one collision bit per assembled group, bits 1..30
 _UNIT_TOL = 1e-4        # how far a written quaternion may be from unit length
-_COINCIDE_POS = 1e-3    # metres; mating frames in the assembled pose
-_COINCIDE_COS = 0.999
 
 
 def parse_key_values(text, path, element):
@@ -184,6 +183,8 @@ def _check_mates(parts, connectors, path):
   for c in connectors:
     by_type.setdefault(c.type, []).append(c)
   pose = {p.name: (p.pos, p.rot) for p in parts}
+  index = {id(c): i for i, c in enumerate(connectors)}
+  coinciding = {k for pair in mating.coinciding_connector_pairs(connectors, pose) for k in pair}
   for c in connectors:
     label = f"connector {c.name!r}"
     mates = by_type.get(c.mates)
@@ -196,34 +197,17 @@ def _check_mates(parts, connectors, path):
             path, label, f"mates {m.name!r} (type {m.type!r}), which mates {m.mates!r} instead of {c.type!r}")
       if m.twists != c.twists:
         raise errors.ModelFormatError(path, label, f"twists differ from its mate {m.name!r}")
-    if not any(_coincide(c, m, pose) for m in mates if m.part != c.part):
+    if index[id(c)] not in coinciding:
       raise errors.ModelFormatError(
           path, label, "no connector of its mate type coincides with it in the assembled pose "
           "(same position, same up axis, forward within an allowed twist)")
 
 
-def _coincide(a, b, pose):
-  pa, ra = pose[a.part]
-  pb, rb = pose[b.part]
-  pos_a, rot_a = pa + ra @ a.pos, ra @ a.rot
-  pos_b, rot_b = pb + rb @ b.pos, rb @ b.rot
-  if np.linalg.norm(pos_a - pos_b) > _COINCIDE_POS or rot_a[:, 2] @ rot_b[:, 2] < _COINCIDE_COS:
-    return False
-  if a.any_twist:
-    return True
-  return any(rot_b[:, 0] @ (rot_a @ geometry.rot_z(t))[:, 0] > _COINCIDE_COS for t in a.twists)
-
-
 def coinciding_pairs(spec):
   """Part index pairs (i < j) joined by a mating connector pair that coincides when assembled."""
   index = {p.name: i for i, p in enumerate(spec.parts)}
-  pose = {p.name: (p.pos, p.rot) for p in spec.parts}
-  pairs = set()
-  for a in spec.connectors:
-    for b in spec.connectors:
-      if a.part != b.part and a.mates == b.type and _coincide(a, b, pose):
-        pairs.add(tuple(sorted((index[a.part], index[b.part]))))
-  return sorted(pairs)
+  return sorted({tuple(sorted((index[spec.connectors[a].part], index[spec.connectors[b].part])))
+                 for a, b in spec.assembled_connector_pairs()})
 
 
 @functools.lru_cache(maxsize=256)

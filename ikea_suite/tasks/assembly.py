@@ -1,11 +1,16 @@
 """The assembly task: connect every part of a furniture into one rigid assembly."""
 
+import logging
+
 import numpy as np
 from dm_control import composer
 from dm_env import specs
 from dm_control.composer.observation import observable
 
+from ikea_suite import errors
 from ikea_suite import geometry
+from ikea_suite import physics_settings
+from ikea_suite.assembly import sequence
 from ikea_suite.tasks import alignment
 from ikea_suite.tasks import assembly_state
 from ikea_suite.tasks import collision_groups
@@ -14,6 +19,11 @@ from ikea_suite.tasks import planner
 from ikea_suite.tasks import welds
 
 CONNECT_ACTION = "connect"
+# How deep (m) a connection may push the moving group into the floor or into a
+# part of another group. Deeper and the connection is refused: snapping moves a
+# part by up to the distance threshold about a connector, which at the far end
+# of a 2 m panel can be decimetres, and MuJoCo would then fling it out.
+SNAP_PENETRATION_TOL = 0.005
 
 
 class Assembly(composer.Task):
@@ -24,14 +34,21 @@ class Assembly(composer.Task):
   assembled groups; the best-aligned attachable pair is snapped together
   (the smaller group moves), welded, and its groups stop colliding.
 
+  A connection is refused (and reported in `blocked_connections`) when the
+  snap would push the moving group more than `SNAP_PENETRATION_TOL` into the
+  floor or another group. After a connection every other free mating pair
+  inside the new group whose frames coincide within the thresholds is welded
+  too, so loops close and the assembly is rigid (`loop_closures`).
+
   Reward: `connection_reward` for each new connection plus `completion_bonus`
   when the last part joins, which also ends the episode (discount 0).
   """
 
   def __init__(self, arena, furniture, robot, thresholds=alignment.Thresholds(),
-               control_timestep=0.05, physics_timestep=0.002, connection_reward=1.0,
-               completion_bonus=10.0, initializer=None):
+               control_timestep=0.05, physics_timestep=physics_settings.TIMESTEP,
+               connection_reward=1.0, completion_bonus=10.0, initializer=None):
     self._arena, self._furniture, self._robot = arena, furniture, robot
+    physics_settings.configure_arena(arena.mjcf_model)
     self._thresholds = thresholds
     self._connection_reward, self._completion_bonus = connection_reward, completion_bonus
     furniture.attach_to(arena)
@@ -41,6 +58,8 @@ class Assembly(composer.Task):
     self._welds = welds.PartWelds(arena, furniture)
     self._collisions = collision_groups.CollisionGroups(len(furniture.parts))
     self._root = planner.root_part(furniture.spec)
+    self._order = _assembly_order(furniture.spec, self._root)
+    self._design_pairs = placement.design_pairs(furniture.spec, self._table)
     self.set_timesteps(control_timestep=control_timestep, physics_timestep=physics_timestep)
     robot.bind_scene(arena, furniture, self._state, self.control_timestep)
     initializer = initializer or placement.ScatteredParts(furniture)
@@ -84,11 +103,19 @@ class Assembly(composer.Task):
   def after_compile(self, physics, random_state):
     # composer calls the task's hook before the entities'; the task needs part ids now.
     self._furniture.after_compile(physics, random_state)
+    physics_settings.configure_contacts(physics.model)
     self._welds.after_compile(physics)
     self._collisions.after_compile(physics, self._furniture.body_ids)
+    model = physics.model
+    part_of_body = np.full(model.nbody, -1)
+    part_of_body[self._furniture.body_ids] = np.arange(len(self._furniture.parts))
+    # Per geom: its part index, -1 for robot geoms, -2 for static world geoms (floor, walls).
+    self._geom_part = part_of_body[model.geom_bodyid]
+    self._geom_part[model.geom_bodyid == 0] = -2
 
   def initialize_episode(self, physics, random_state):
     self._state.reset()
+    self._blocked = ()
     self._suggestion_key = None
     self._welds.reset(physics)
     self._collisions.reset(physics)
@@ -139,6 +166,11 @@ class Assembly(composer.Task):
     return self._thresholds
 
   @property
+  def loop_closures(self):
+    """Connector pairs welded because they came to coincide, not by a connect action."""
+    return tuple(self._state.closures)
+
+  @property
   def blocked_connections(self):
     """Why `connect` made no connection on the last step: one message per refused pair."""
     return self._blocked
@@ -147,11 +179,21 @@ class Assembly(composer.Task):
   def root_part(self):
     return self._root
 
+  @property
+  def design_pairs(self):
+    """Indices of the candidate connector pairs that coincide in the assembled design."""
+    return self._design_pairs
+
+  @property
+  def assembly_order(self):
+    """Part indices in the buildable order the planner suggests, root first."""
+    return self._order
+
   def suggested_parts(self):
     """[moving part, target part] of the planner's next connection, or [-1, -1]."""
     made = len(self._state.connections)
     if self._suggestion_key != made:  # the plan changes only when a connection is made
-      suggestion = planner.next_pair(self._table, self._state, self._root)
+      suggestion = planner.next_pair(self._table, self._state, self._order, self._design_pairs)
       self._suggestion = np.array([-1, -1]) if suggestion is None else np.array(suggestion[1:])
       self._suggestion_key = made
     return self._suggestion
@@ -162,20 +204,21 @@ class Assembly(composer.Task):
     return alignment.align_pairs(*self._table.world_frames(pos, rot), self._table)
 
   def try_connect(self, physics):
-    """Connects the best attachable pair, if any; returns whether it did."""
+    """Connects the nearest attachable pair that can snap without collision; returns
+    whether it connected. Refused pairs are explained in `blocked_connections`."""
     scores = self.alignment(physics)
     ok = scores.attachable(self._thresholds) & planner.open_pairs(self._table, self._state)
-    if not ok.any():
-      return False
-    candidates = np.flatnonzero(ok)
-    pair = candidates[np.argmin(scores.distance[candidates])]
-    self._join(physics, pair, scores.twist[pair])
-    return True
+    for pair in sorted(np.flatnonzero(ok), key=lambda k: scores.distance[k]):
+      if self._join(physics, int(pair), scores.twist[pair]):
+        return True
+    return False
 
   def connect_in_place(self, physics, pair):
     """Connects connector pair `pair` whose parts already sit in their mating pose."""
     physics.forward()   # part poses are read from xpos/xmat, stale after an initializer
-    self._join(physics, int(pair), self.alignment(physics).twist[pair])
+    if not self._join(physics, int(pair), self.alignment(physics).twist[pair]):
+      raise composer.EpisodeInitializationError(
+          f"could not join preassembled pair {pair}: {self._blocked[-1]}")
 
   def _join(self, physics, pair, twist):
     table = self._table
@@ -186,11 +229,12 @@ class Assembly(composer.Task):
     group_a, group_b = self._state.group_members(part_a), self._state.group_members(part_b)
     # Aligned means R_b = R_a Rz(twist); the smaller group is moved to make it exact.
     if len(group_b) <= len(group_a):
-      moving, moving_con, fixed_con = group_b, con_b, con_a
+      moving, fixed, moving_con, fixed_con = group_b, group_a, con_b, con_a
       target_rot = crot[con_a] @ geometry.rot_z(twist)
     else:
-      moving, moving_con, fixed_con = group_a, con_a, con_b
+      moving, fixed, moving_con, fixed_con = group_a, group_b, con_a, con_b
       target_rot = crot[con_b] @ geometry.rot_z(-twist)
+    saved_qpos, saved_qvel = physics.data.qpos.copy(), physics.data.qvel.copy()
     delta = target_rot @ crot[moving_con].T
     for k in moving:
       rot[k] = delta @ rot[k]
@@ -199,7 +243,68 @@ class Assembly(composer.Task):
       part.set_pose(physics, position=pos[k], quaternion=geometry.mat_to_quat(rot[k]))
       part.set_velocity(physics, velocity=np.zeros(3), angular_velocity=np.zeros(3))
     physics.forward()
+    collision = self._snap_collision(physics, moving, fixed)
+    if collision:
+      physics.data.qpos[:], physics.data.qvel[:] = saved_qpos, saved_qvel
+      physics.forward()
+      names = self._table.names
+      self._blocked += (f"{names[con_a]} + {names[con_b]}: {collision}",)
+      return False
     self._welds.activate(physics, part_a, part_b, pos[part_a], rot[part_a], pos[part_b], rot[part_b])
     self._state.connect(part_a, part_b, con_a, con_b)
+    self._close_loops(physics)
     self._collisions.assign(physics, self._state.group_labels())
     self._robot.on_parts_moved(physics, moving)
+    return True
+
+  def _snap_collision(self, physics, moving, fixed):
+    """Why the snapped `moving` group may not stay (too deep in the floor or in a part of a
+    third group), or "" when it may."""
+    data = physics.data
+    if not data.ncon:
+      return ""
+    contacts = data.contact
+    deep = contacts.dist < -SNAP_PENETRATION_TOL
+    if not deep.any():
+      return ""
+    owner = np.stack([self._geom_part[contacts.geom1[deep]], self._geom_part[contacts.geom2[deep]]])
+    moving_set = np.isin(owner, moving)
+    obstacle = (owner == -2) | ((owner >= 0) & ~np.isin(owner, moving) & ~np.isin(owner, fixed))
+    hits = (moving_set[0] & obstacle[1]) | (moving_set[1] & obstacle[0])
+    if not hits.any():
+      return ""
+    k = int(np.argmax(np.where(hits, -contacts.dist[deep], -np.inf)))
+    other = owner[1, k] if moving_set[0, k] else owner[0, k]
+    what = "the floor" if other == -2 else f"part {self._furniture.spec.parts[other].name!r}"
+    return (f"snapping would push it {-contacts.dist[deep][k] * 1000:.0f} mm into {what} "
+            f"(limit {SNAP_PENETRATION_TOL * 1000:.0f} mm)")
+
+  def _close_loops(self, physics):
+    """Welds every free mating pair inside one group whose frames now coincide."""
+    pos, rot = self._furniture.part_poses(physics)
+    scores = alignment.align_pairs(*self._table.world_frames(pos, rot), self._table)
+    table, state = self._table, self._state
+    groups = state.group_labels()
+    inside = ((groups[table.part[table.pair_a]] == groups[table.part[table.pair_b]])
+              & ~state.connector_used[table.pair_a] & ~state.connector_used[table.pair_b])
+    candidates = np.flatnonzero(inside & scores.attachable(self._thresholds))
+    for pair in sorted(candidates, key=lambda k: scores.distance[k]):
+      con_a, con_b = table.pair_a[pair], table.pair_b[pair]
+      if state.connector_used[con_a] or state.connector_used[con_b]:
+        continue
+      part_a, part_b = int(table.part[con_a]), int(table.part[con_b])
+      if not self._welds.is_active(physics, part_a, part_b):
+        self._welds.activate(physics, part_a, part_b, pos[part_a], rot[part_a], pos[part_b],
+                             rot[part_b])
+      state.close_loop(part_a, part_b, con_a, con_b)
+
+
+def _assembly_order(spec, root):
+  """Root, then every part in the order of the buildable sequence (table order if the
+  sequencer finds none, e.g. for a user's model without free insertion paths)."""
+  try:
+    steps = sequence.plan(spec.path, root, sequence.HOLD_LIFT)
+  except errors.SequenceError as e:
+    logging.warning("%s; next_pair follows part order instead", e)
+    return (root,) + tuple(i for i in range(len(spec.parts)) if i != root)
+  return (root,) + tuple(step.part for step in steps)

@@ -16,6 +16,7 @@ class AssemblyState:
     self.connector_used = np.zeros(self._num_connectors, dtype=bool)
     self.adjacency = np.zeros((self._num_parts, self._num_parts))
     self.connections = []   # (connector_a, connector_b) in the order they were made
+    self.closures = []      # (connector_a, connector_b) welded because they came to coincide
 
   def group_of(self, part):
     root = part
@@ -39,6 +40,12 @@ class AssemblyState:
     self.connector_used[[connector_a, connector_b]] = True
     self.adjacency[part_a, part_b] = self.adjacency[part_b, part_a] = 1.0
     self.connections.append((connector_a, connector_b))
+
+  def close_loop(self, part_a, part_b, connector_a, connector_b):
+    """Records a weld between two parts already in one group."""
+    self.connector_used[[connector_a, connector_b]] = True
+    self.adjacency[part_a, part_b] = self.adjacency[part_b, part_a] = 1.0
+    self.closures.append((connector_a, connector_b))
 
   @property
   def num_groups(self):

@@ -131,12 +131,10 @@ def preassembled_range(preassembled):
 
 
 def design_pairs(spec, table):
-  """Indices of the connector pairs that coincide in the assembled design."""
-  pos = np.array([p.pos for p in spec.parts])
-  rot = np.array([p.rot for p in spec.parts])
-  cpos, _ = table.world_frames(pos, rot)
-  distance = np.linalg.norm(cpos[table.pair_a] - cpos[table.pair_b], axis=1)
-  return np.flatnonzero(distance < 1e-4)
+  """Indices into `table`'s candidate pairs of those that coincide in the assembled design."""
+  assembled = set(spec.assembled_connector_pairs())
+  return np.array([k for k, pair in enumerate(zip(table.pair_a, table.pair_b))
+                   if tuple(int(c) for c in pair) in assembled], dtype=int)
 
 
 OPTIONS = ("spread", "preassembled", "yaw_range")

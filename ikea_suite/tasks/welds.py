@@ -3,20 +3,23 @@
 import numpy as np
 
 from ikea_suite import geometry
-
-# Stiff enough that a welded table does not sag visibly, soft enough for 2 ms steps.
-WELD_SOLREF = (0.01, 1.0)
+from ikea_suite import physics_settings
 
 
 class PartWelds:
-  """One weld per pair of parts that share a mating connector pair."""
+  """One weld per pair of parts that share a mating connector pair.
+
+  A weld holds its two parts at the relative pose written when it is
+  activated; several connector pairs between the same two parts share it.
+  """
 
   def __init__(self, arena, furniture):
     frames = furniture.part_frames
     self._pairs = furniture.spec.mating_part_pairs()
     self._elements = {(i, j): arena.mjcf_model.equality.add(
         "weld", name=f"part_weld_{i}_{j}", body1=frames[i], body2=frames[j], active=False,
-        solref=WELD_SOLREF) for i, j in self._pairs}
+        solref=physics_settings.WELD_SOLREF, solimp=physics_settings.WELD_SOLIMP,
+        torquescale=physics_settings.WELD_TORQUESCALE) for i, j in self._pairs}
     self._ids = {}
 
   def after_compile(self, physics):
@@ -25,6 +28,9 @@ class PartWelds:
 
   def reset(self, physics):
     physics.data.eq_active[self._all_ids] = 0
+
+  def is_active(self, physics, part_i, part_j):
+    return bool(physics.data.eq_active[self._ids[tuple(sorted((part_i, part_j)))]])
 
   def activate(self, physics, part_i, part_j, pos_i, rot_i, pos_j, rot_j):
     """Welds two parts at their current relative pose (relpose = body2 in body1's frame)."""
@@ -38,4 +44,5 @@ class PartWelds:
     physics.data.eq_active[weld] = 1
 
   def active_pairs(self, physics):
-    return [pair for pair, i in self._ids.items() if physics.data.eq_active[i]]
+    """Sorted (i, j) part pairs whose weld is on."""
+    return sorted(pair for pair, i in self._ids.items() if physics.data.eq_active[i])

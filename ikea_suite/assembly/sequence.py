@@ -19,6 +19,7 @@ import functools
 import mujoco
 import numpy as np
 
+from ikea_suite import errors
 from ikea_suite.props import model_format
 
 PENETRATION = 0.001    # metres of overlap that count as a collision
@@ -30,6 +31,9 @@ MARGIN = 0.03          # extra distance beyond the bounding box
 SHORT_MOVE = (0.03, 0.06, 0.10, 0.15)   # first-leg lengths tried for two-leg paths
 _AXES = np.concatenate([np.eye(3), -np.eye(3)])
 _PARKED = 100.0        # parts taken away are parked this far along x
+# The Cursor oracle holds the growing assembly this high (m): parts still lying
+# on the floor pass beneath it. The task's next_pair follows the plan for it.
+HOLD_LIFT = 0.3
 
 
 @dataclasses.dataclass(frozen=True)
@@ -142,7 +146,7 @@ def _exit_path(scene, part, present):
 
 @functools.lru_cache(maxsize=64)
 def plan(path, root, lift=0.15):
-  """Insertion steps for every part but `root`, in assembly order; raises ValueError if stuck.
+  """Insertion steps for every part but `root`, in assembly order; raises SequenceError if stuck.
 
   `path` is a furniture model file; `root` the index of the part held still.
   """
@@ -159,7 +163,7 @@ def plan(path, root, lift=0.15):
       present.remove(step.part)
     else:
       names = [spec.parts[p].name for p in sorted(present - {root})]
-      raise ValueError(f"{spec.name}: no part of {names} can leave along a free straight path")
+      raise errors.SequenceError(f"{spec.name}: no part of {names} can leave along a free straight path")
   return tuple(reversed(removed))
 
 

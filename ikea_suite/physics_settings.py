@@ -1,0 +1,76 @@
+"""The one physics configuration of ikea_suite, used by every tool that simulates.
+
+The environment (`configure_arena`), the validator, the sequencer and the
+gallery (`configure_model` on a plain MjModel) and the model writer (`OPTION`,
+`WELD_SOLREF`, `WELD_SOLIMP` written into each file) all read these values, so
+a model behaves the same wherever it is simulated. Reasons follow MuJoCo's
+modelling guidance (mujoco.readthedocs.io, "Modeling" and "Computation") and
+the calibration tests in tests/test_physics_settings.py.
+"""
+
+import numpy as np
+
+TIMESTEP = 0.002   # s; 25 substeps per 20 Hz control step, fast enough for 2 cm parts at 1 m/s
+
+OPTION = {
+    "timestep": TIMESTEP,
+    # Implicit in velocity for joint damping and actuator gains: stable with the
+    # arms' stiff position servos, and MuJoCo's recommended default.
+    "integrator": "implicitfast",
+    # Elliptic cones model Coulomb friction exactly; impratio > 1 makes friction
+    # stiffer than normal forces, which stops parts slowly slipping out of fingers.
+    "cone": "elliptic",
+    "impratio": 10,
+    # No noslip pass: with impratio 10 a 3 s grasp slips < 1 mm (tests), and
+    # noslip costs a second solver sweep on every step.
+    "noslip_iterations": 0,
+}
+
+# MuJoCo's arena holds contacts and constraints; a full pile of parts under a
+# robot makes up to a few thousand contacts. 64 MB leaves a wide margin (the
+# random-action soak in tests/test_physics_settings.py checks for overflows).
+ARENA_MEMORY = "64M"
+
+# Welds between connected parts. The time constant is twice the timestep, the
+# stiffest MuJoCo integrates stably; solimp near 1 makes the weld almost hard
+# (impedance 0.99 -> 0.999 over 1 mm). Together they keep a lifted, shaken
+# assembly within 1 mm (test_physics_settings).
+WELD_SOLREF = (2 * TIMESTEP, 1.0)
+WELD_SOLIMP = (0.99, 0.999, 0.001, 0.5, 2.0)
+# Rotational residual counts as much as translational (m per rad): slender
+# parts then neither sag about a weld nor twist.
+WELD_TORQUESCALE = 1.0
+
+# Contacts between parts, floor and robot: time constant 5 ms (2.5 timesteps)
+# and impedance 0.95-0.99, so a 40 kg bookcase sinks < 1 mm into the floor
+# instead of MuJoCo's default soft 20 ms contact.
+CONTACT_SOLREF = (0.005, 1.0)
+CONTACT_SOLIMP = (0.95, 0.99, 0.001, 0.5, 2.0)
+
+
+def configure_arena(mjcf_root):
+  """Writes the option block and arena size into the root MJCF of an environment."""
+  mjcf_root.option.set_attributes(**OPTION)
+  mjcf_root.size.memory = ARENA_MEMORY
+
+
+def configure_contacts(model, geom_ids=None):
+  """Sets the contact parameters on compiled geoms: entities attached to an arena keep
+  their own MJCF defaults, so this is applied to the compiled model instead."""
+  ids = np.arange(model.ngeom) if geom_ids is None else np.asarray(geom_ids, dtype=int)
+  model.geom_solref[ids] = CONTACT_SOLREF
+  model.geom_solimp[ids] = CONTACT_SOLIMP
+
+
+def configure_model(model):
+  """Applies the whole configuration to a plain mujoco.MjModel compiled from a file."""
+  model.opt.timestep = TIMESTEP
+  model.opt.integrator = {"euler": 0, "rk4": 1, "implicit": 2, "implicitfast": 3}[OPTION["integrator"]]
+  model.opt.cone = 1   # elliptic
+  model.opt.impratio = OPTION["impratio"]
+  model.opt.noslip_iterations = OPTION["noslip_iterations"]
+  configure_contacts(model)
+  welds = np.flatnonzero(model.eq_type == 1)   # mjEQ_WELD
+  model.eq_solref[welds] = WELD_SOLREF
+  model.eq_solimp[welds] = WELD_SOLIMP
+  model.eq_data[welds, 10] = WELD_TORQUESCALE
