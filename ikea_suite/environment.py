@@ -1,5 +1,7 @@
 """A composer.Environment that checks actions and steps physics in one call per control step."""
 
+import logging
+
 import numpy as np
 import dm_env
 from dm_control import composer
@@ -41,6 +43,18 @@ class Environment(composer.Environment):
     super().__init__(task, **kwargs)
     self._action_names = list(task.action_names)
     self._checked_spec = None
+    self._termination_reason = None
+
+  @property
+  def termination_reason(self):
+    """Why the last episode ended early: None, "complete", or the MuJoCo warnings that
+    ended it (any warning, such as a diverging state or a full contact buffer, ends the
+    episode with discount 0 rather than going on with a broken simulation)."""
+    return self._termination_reason
+
+  def reset(self):
+    self._termination_reason = None
+    return super().reset()
 
   @property
   def time_limit(self):
@@ -85,8 +99,10 @@ class Environment(composer.Environment):
     try:
       self._physics.step(self._n_sub_steps)
       divergent = False
-    except control.PhysicsError:
+    except control.PhysicsError as e:
       divergent = True
+      self._termination_reason = str(e)
+      logging.warning("ikea_suite: episode ended at t=%.3f s: %s", self._physics.time(), e)
     self._advance_updater(self._n_sub_steps - 1)
     self._hooks.after_step(self._physics_proxy, self._random_state)
     updater.update()
@@ -95,8 +111,10 @@ class Environment(composer.Environment):
     else:
       reward = self._task.get_reward(self._physics_proxy)
       discount = self._task.get_discount(self._physics_proxy)
-      last = (self._task.should_terminate_episode(self._physics_proxy)
-              or self._physics.time() >= self._time_limit)
+      complete = self._task.should_terminate_episode(self._physics_proxy)
+      if complete:
+        self._termination_reason = "complete"
+      last = complete or self._physics.time() >= self._time_limit
     observation = updater.get_observation()
     if last:
       self._reset_next_step = True

@@ -32,14 +32,15 @@ OPTION = {
 ARENA_MEMORY = "64M"
 
 # Welds between connected parts. The time constant is twice the timestep, the
-# stiffest MuJoCo integrates stably; solimp near 1 makes the weld almost hard
-# (impedance 0.99 -> 0.999 over 1 mm). Together they keep a lifted, shaken
-# assembly within 1 mm (test_physics_settings).
+# stiffest MuJoCo integrates stably, and solimp near 1 makes the weld nearly
+# hard (impedance 0.999 -> 0.9999 over 1 mm). The rotational residual is
+# weighted 10 m per rad, so 1 mrad of bending costs as much as 1 cm of offset:
+# a table hung from one leg otherwise swings 22 mm about that leg's weld.
+# Measured (test_physics_settings, shaken 3 s by one part): table 0.19 mm,
+# chair 0.17 mm, bookcase 0.08 mm of deformation; limit 1 mm.
 WELD_SOLREF = (2 * TIMESTEP, 1.0)
-WELD_SOLIMP = (0.99, 0.999, 0.001, 0.5, 2.0)
-# Rotational residual counts as much as translational (m per rad): slender
-# parts then neither sag about a weld nor twist.
-WELD_TORQUESCALE = 1.0
+WELD_SOLIMP = (0.999, 0.9999, 0.001, 0.5, 2.0)
+WELD_TORQUESCALE = 10.0
 
 # Contacts between parts, floor and robot: time constant 5 ms (2.5 timesteps)
 # and impedance 0.95-0.99, so a 40 kg bookcase sinks < 1 mm into the floor

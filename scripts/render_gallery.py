@@ -19,6 +19,7 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 
+from ikea_suite import physics_settings  # noqa: E402
 from ikea_suite.props import catalog  # noqa: E402
 
 _BACKGROUND = (246, 246, 244)
@@ -52,6 +53,7 @@ def furniture_bounds(model, data):
 
 def render_tile(path, width, height):
   model = mujoco.MjModel.from_xml_path(str(path))
+  physics_settings.configure_model(model)
   data = mujoco.MjData(model)
   lo, hi = furniture_bounds(model, data)
   camera = mujoco.MjvCamera()

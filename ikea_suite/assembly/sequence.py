@@ -20,6 +20,7 @@ import mujoco
 import numpy as np
 
 from ikea_suite import errors
+from ikea_suite import physics_settings
 from ikea_suite.props import model_format
 
 PENETRATION = 0.001    # metres of overlap that count as a collision
@@ -52,6 +53,7 @@ class _Scene:
 
   def __init__(self, spec, lift):
     self.model = mujoco.MjModel.from_xml_path(spec.path)
+    physics_settings.configure_model(self.model)
     self.model.geom_margin[:] = 2 * LOOSE   # report near misses, not only overlaps
     self.air = CLEARANCE
     self.data = mujoco.MjData(self.model)

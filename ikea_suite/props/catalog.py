@@ -8,6 +8,7 @@ collides through convex pieces of a decomposed mesh.
 
 import dataclasses
 import functools
+import pathlib
 
 from ikea_suite import errors
 from ikea_suite.props import model_format
@@ -92,6 +93,9 @@ def representatives(smallest=False):
 
 
 def path_of(name):
+  """The model file of a catalog name; a path to a model file is returned as it is."""
+  if str(name).endswith(".xml") and pathlib.Path(name).is_file():
+    return str(name)
   if name not in entries():
     raise errors.UnknownNameError("furniture", name, entries())
   return entries()[name].path
