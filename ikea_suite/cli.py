@@ -32,16 +32,18 @@ def run_episode(env, policy):
   timestep = env.reset()
   if hasattr(policy, "reset"):
     policy.reset()
-  steps, episode_return = 0, 0.0
+  steps, episode_return, blocked = 0, 0.0, 0
   while not timestep.last():
     timestep = env.step(policy(timestep))
     steps += 1
     episode_return += timestep.reward
+    blocked += len(env.task.blocked_connections)
   seconds = time.perf_counter() - start
   state = env.task.state
   return {"steps": steps, "connections": len(state.connections),
           "needed": len(env.task.furniture.parts) - 1, "success": state.complete,
-          "return": episode_return, "seconds": seconds, "steps_per_second": steps / seconds}
+          "return": episode_return, "seconds": seconds, "steps_per_second": steps / seconds,
+          "ended_by": env.termination_reason or "time limit", "blocked_connects": blocked}
 
 
 def main(argv=None):

@@ -4,6 +4,8 @@ import inspect
 
 from ikea_suite import environment
 from ikea_suite import errors
+from ikea_suite import options as ranges
+from ikea_suite import physics_settings
 from ikea_suite.arenas import presets
 from ikea_suite.props import catalog
 from ikea_suite.props import furniture as furniture_lib
@@ -60,6 +62,7 @@ def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options)
   for key in options:
     if key not in valid:
       raise errors.UnknownNameError("option", key, valid)
+  _check_options(options)
   thresholds = alignment.Thresholds(**{field: options[key] for key, field in THRESHOLD_OPTIONS.items()
                                        if key in options})
   def picked(names):
@@ -76,6 +79,28 @@ def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options)
   camera_observables.attach(task, **picked(camera_observables.OPTIONS))
   time_limit = options.get("time_limit", default_time_limit(len(furniture_prop.parts)))
   return environment.Environment(task, time_limit=time_limit, random_state=seed)
+
+
+def _check_options(options):
+  """Range-checks the task and environment options (robots and scene modules check theirs)."""
+  given = dict(options)
+  if "distance_threshold" in given:
+    ranges.positive("distance_threshold", given["distance_threshold"])
+  for key in ("up_threshold", "forward_threshold"):
+    if key in given:
+      ranges.number(key, given[key], -1.0, 1.0, high_open=True)
+  for key in ("time_limit", "control_timestep", "physics_timestep"):
+    if key in given:
+      ranges.positive(key, given[key])
+  for key in ("connection_reward", "completion_bonus"):
+    if key in given:
+      ranges.number(key, given[key])
+  control = given.get("control_timestep", assembly.CONTROL_TIMESTEP)
+  physics = given.get("physics_timestep", physics_settings.TIMESTEP)
+  substeps = control / physics
+  if abs(substeps - round(substeps)) > 1e-6 or round(substeps) < 1:
+    raise errors.OptionValueError(
+        f"control_timestep ({control!r}) must be a whole multiple of physics_timestep ({physics!r})")
 
 
 def furniture_names(tag=None, min_parts=None, max_parts=None):

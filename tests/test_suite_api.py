@@ -75,3 +75,55 @@ def test_time_limit_scales_with_the_part_count():
   assert small.time_limit == ikea_suite.suite.default_time_limit(len(small.task.furniture.parts))
   assert small.time_limit < large.time_limit
   assert ikea_suite.load("stool_round_frosta", seed=0, time_limit=3.0).time_limit == 3.0
+
+
+@pytest.mark.parametrize("robot, option, value, valid", [
+    ("cursor", "up_threshold", 2, "[-1, 1)"),
+    ("cursor", "forward_threshold", -1.5, "[-1, 1)"),
+    ("cursor", "distance_threshold", 0.0, "(0, inf)"),
+    ("cursor", "time_limit", -3, "(0, inf)"),
+    ("cursor", "control_timestep", float("inf"), "(0, inf)"),
+    ("cursor", "physics_timestep", 0, "(0, inf)"),
+    ("cursor", "connection_reward", float("nan"), "(-inf, inf)"),
+    ("cursor", "completion_bonus", "ten", "a number"),
+    ("cursor", "move_speed", -0.5, "(0, inf)"),
+    ("cursor", "rotate_speed", 0, "(0, inf)"),
+    ("cursor", "grasp_margin", -0.01, "[0, inf)"),
+    ("cursor", "radius", 0, "(0, inf)"),
+    ("cursor", "workspace", ((0, 0, 0), (1, 1)), "shape (2, 3)"),
+    ("cursor", "workspace", ((0, 0, 1), (1, 1, 1)), "low < high"),
+    ("cursor", "spread", -1, ">= 0"),
+    ("sawyer", "max_translation", 0, "(0, inf)"),
+    ("sawyer", "max_rotation", -1, "(0, inf)"),
+    ("sawyer", "base_pos", (0, 0), "shape (3,)"),
+    ("sawyer", "base_yaw", "north", "a number"),
+    ("sawyer", "camera_size", (0, 84), "whole numbers of pixels"),
+    ("sawyer", "wrist_camera", "yes", "True, False"),
+])
+def test_every_option_is_range_checked(robot, option, value, valid):
+  with pytest.raises(ikea_suite.OptionValueError) as info:
+    ikea_suite.load("table_four_leg_lack", robot, **{option: value})
+  assert option in str(info.value) and valid in str(info.value)
+
+
+def test_control_timestep_must_be_a_multiple_of_the_physics_timestep():
+  with pytest.raises(ikea_suite.OptionValueError, match="whole multiple"):
+    ikea_suite.load(control_timestep=0.005, physics_timestep=0.002)
+  assert ikea_suite.load(control_timestep=0.03, physics_timestep=0.002).control_timestep() == 0.03
+
+
+def test_an_ik_failure_holds_the_arm_still(monkeypatch):
+  from ikea_suite.robots import ik
+  env = ikea_suite.load("table_four_leg_lack", "panda", seed=0)
+  env.reset()
+  robot = env.task.robot
+  for _ in range(3):
+    env.step(np.zeros(env.action_spec().shape))
+  failed = type("NoSolution", (), {"found": False, "x": None})()
+  monkeypatch.setattr(ik.qpsolvers, "solve_problem", lambda *args, **kwargs: failed)
+  before = env.physics.data.qpos[robot._ik_to_qpos].copy()
+  action = np.zeros(env.action_spec().shape)
+  action[:3] = 1.0   # a move the IK now cannot solve
+  env.step(action)
+  assert robot._ik.failures == 1
+  np.testing.assert_allclose(env.physics.data.qpos[robot._ik_to_qpos], before, atol=2e-3)

@@ -167,3 +167,75 @@ def test_time_limit_truncates_with_discount_one():
     if timestep.last():
       break
   assert steps == 10 and timestep.discount == 1.0
+
+
+def test_a_connect_that_would_push_a_part_into_the_floor_is_refused(env):
+  top, legs = top_and_legs(env)
+  physics, task = env.physics, env.task
+  helpers.place_assembled(env, [top, legs[1]])
+  assert task.try_connect(physics)
+  # The top and leg 1 sit 1 cm lower than standing on the floor; leg 0 hovers 1.5 cm
+  # above its slot, its foot 5 mm above the floor: snapping it home would sink it 10 mm.
+  lowered = np.array([0.0, 0.0, -0.010])
+  helpers.place_assembled(env, [top, legs[1]], offset=lowered)
+  helpers.place_assembled(env, [legs[0]], offset=lowered + [0.0, 0.0, 0.015])
+  before = physics.data.qpos.copy()
+  assert not task.try_connect(physics)
+  assert not task.state.same_group(top, legs[0])
+  np.testing.assert_array_equal(physics.data.qpos, before)   # nothing teleported
+  (reason,) = task.blocked_connections
+  assert "leg0" in reason and "into the floor" in reason and "10 mm" in reason
+  # With the table standing on the floor instead, the same snap keeps clear of it.
+  standing = np.array([0.0, 0.0, 0.001])
+  helpers.place_assembled(env, [top, legs[1]], offset=standing)
+  helpers.place_assembled(env, [legs[0]], offset=standing + [0.0, 0.0, 0.015])
+  assert task.try_connect(physics) and task.state.same_group(top, legs[0])
+
+
+def test_blocked_connections_are_reported_for_the_step_only(env):
+  top, legs = top_and_legs(env)
+  helpers.place_assembled(env, [top, legs[1]])
+  env.step(helpers.connect_action(env))
+  lowered = np.array([0.0, 0.0, -0.010])
+  helpers.place_assembled(env, [top, legs[1]], offset=lowered)
+  helpers.place_assembled(env, [legs[0]], offset=lowered + [0.0, 0.0, 0.015])
+  timestep = env.step(helpers.connect_action(env))
+  assert timestep.reward == 0.0 and len(env.task.blocked_connections) == 1
+  env.step(helpers.idle_action(env))
+  assert env.task.blocked_connections == ()
+
+
+def test_next_pair_follows_the_buildable_sequence_in_any_order():
+  # The bookcase's sequence puts the shelves in before the closing side panel; table
+  # order would suggest back, side and plinth first, which cannot be built.
+  env = ikea_suite.load("bookcase_shelf_unit_w80_h106_white", seed=0)
+  env.reset()
+  task = env.task
+  spec = task.furniture.spec
+  order = [spec.parts[i].name for i in task.assembly_order]
+  suggested = []
+  for _ in spec.parts[1:]:
+    moving, target = task.suggested_parts()
+    assert task.state.same_group(target, task.root_part)
+    suggested.append(spec.parts[moving].name)
+    helpers.place_assembled(env, range(len(spec.parts)))
+    pair = next(k for k in task.design_pairs
+                if {task.furniture.connectors.part[task.furniture.connectors.pair_a[k]],
+                    task.furniture.connectors.part[task.furniture.connectors.pair_b[k]]}
+                == {moving, target})
+    task.connect_in_place(env.physics, pair)
+    if task.state.complete:
+      break
+  assert suggested == order[1:len(suggested) + 1]
+  assert order.index("side1") > max(order.index("shelf0"), order.index("shelf1"))
+
+
+def test_next_pair_adapts_when_parts_are_joined_out_of_order(env):
+  top, legs = top_and_legs(env)
+  task = env.task
+  first = task.suggested_parts()
+  helpers.place_assembled(env, [top, legs[3]])
+  assert task.try_connect(env.physics)
+  moving, target = task.suggested_parts()
+  assert target in (top, legs[3]) and moving not in (top, legs[3])
+  assert first[0] != legs[3] or moving != legs[3]

@@ -13,6 +13,7 @@ from dm_control import mjcf
 from dm_control.composer.observation import observable
 
 from ikea_suite import geometry
+from ikea_suite import options
 from ikea_suite.robots import base
 
 NUM_CURSORS = 2
@@ -29,10 +30,11 @@ class Cursor(base.Robot):
   def _build(self, name="cursor", move_speed=0.5, rotate_speed=np.pi / 2, grasp_margin=0.02,
              workspace=((-6.0, -6.0, 0.0), (6.0, 6.0, 3.0)), radius=0.025):
     self._mjcf_root = mjcf.RootElement(model=name)
-    self._move_speed = float(move_speed)
-    self._rotate_speed = float(rotate_speed)
-    self._grasp_margin = float(grasp_margin)
-    self._workspace = np.asarray(workspace, dtype=float)
+    self._move_speed = options.positive("move_speed", move_speed)
+    self._rotate_speed = options.positive("rotate_speed", rotate_speed)
+    self._grasp_margin = options.non_negative("grasp_margin", grasp_margin)
+    self._workspace = options.box("workspace", workspace)
+    radius = options.positive("radius", radius)
     self._slides, self._balls = [], []
     for i in range(NUM_CURSORS):
       body = self._mjcf_root.worldbody.add("body", name=f"cursor{i}", gravcomp=1)

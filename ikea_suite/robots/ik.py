@@ -37,6 +37,7 @@ class DifferentialIK:
                     mink.VelocityLimit(model, {n: velocity_limit for n in names})]
     self._position_limit = [mink.ConfigurationLimit(model)]
     self._solver = solver
+    self.failures = 0   # IK steps with no solution, in which the arm held still
     self.arm_qpos_index = np.array(self._physics.bind(arm_joints).qposadr)
     limited = model.jnt_limited.astype(bool) & (model.jnt_type >= int(mujoco.mjtJoint.mjJNT_SLIDE))
     self._limited_qpos = model.jnt_qposadr[limited]
@@ -56,7 +57,11 @@ class DifferentialIK:
     return poses
 
   def step(self, q, targets, dt, velocity_limited=True):
-    """Joint vector after one IK step of length dt from q towards `targets` [(pos, rot)]."""
+    """Joint vector after one IK step of length dt from q towards `targets` [(pos, rot)].
+
+    When the QP has no solution (targets far outside the limits) the arm holds
+    still: the step returns q (clipped to the limits) and counts the failure.
+    """
     configuration = self._configuration
     for task, (pos, rot) in zip(self._tasks, targets):
       task.set_target(mink.SE3.from_rotation_and_translation(mink.SO3.from_matrix(rot), pos))
@@ -68,7 +73,8 @@ class DifferentialIK:
     problem = mink.build_ik(configuration, self._tasks + [self._posture], dt, _DAMPING, limits)
     result = qpsolvers.solve_problem(problem, solver=self._solver)
     if not result.found:
-      raise mink.NoSolutionFound(self._solver)
+      self.failures += 1
+      return configuration.q.copy()
     return configuration.integrate(result.x, 1.0)   # x is the step's displacement, not a velocity
 
   def clip_to_limits(self, q):

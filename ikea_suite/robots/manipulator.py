@@ -14,7 +14,9 @@ import numpy as np
 from dm_control import composer
 from dm_control.composer.observation import observable
 
+from ikea_suite import errors
 from ikea_suite import geometry
+from ikea_suite import options
 from ikea_suite.robots import base
 from ikea_suite.robots import control_modes
 from ikea_suite.robots import grippers
@@ -68,12 +70,17 @@ class Manipulator(base.Robot):
              max_rotation=0.15, base_pos=None, base_yaw=0.0, wrist_camera=False,
              camera_size=(84, 84)):
     self._mode = control_modes.check(control_mode)
-    self._base_pos = np.array(self.BASE_POS if base_pos is None else base_pos, dtype=float)
-    self._base_rot = geometry.rot_z(base_yaw)
+    max_translation = options.positive("max_translation", max_translation)
+    max_rotation = options.positive("max_rotation", max_rotation)
+    self._base_pos = options.vector("base_pos", self.BASE_POS if base_pos is None else base_pos, (3,))
+    self._base_rot = geometry.rot_z(options.number("base_yaw", base_yaw))
+    options.choice("wrist_camera", wrist_camera, (True, False))
+    camera_size = options.vector("camera_size", camera_size, (2,))
+    if (camera_size < 1).any() or (camera_size != np.round(camera_size)).any():
+      raise errors.OptionValueError(f"camera_size must be two whole numbers of pixels >= 1, "
+                                    f"got {camera_size.tolist()!r}")
+    camera_size = tuple(int(v) for v in camera_size)
     self._mjcf_root, self._arms = self._build_body(name or self.DEFAULT_NAME)
-    # An arm adds contacts and constraint rows to scenes whose parts start overlapping
-    # in their assembled poses before placement; MuJoCo's default arena is too small then.
-    self._mjcf_root.size.memory = "48M"
     for arm in self._arms:
       self._add_arm_actuators(arm)
     tcp_sites = [arm.gripper.tcp_site for arm in self._arms]

@@ -19,6 +19,7 @@ from ikea_suite.tasks import planner
 from ikea_suite.tasks import welds
 
 CONNECT_ACTION = "connect"
+CONTROL_TIMESTEP = 0.05   # s: 20 Hz, as the paper's environment
 # How deep (m) a connection may push the moving group into the floor or into a
 # part of another group. Deeper and the connection is refused: snapping moves a
 # part by up to the distance threshold about a connector, which at the far end
@@ -45,7 +46,7 @@ class Assembly(composer.Task):
   """
 
   def __init__(self, arena, furniture, robot, thresholds=alignment.Thresholds(),
-               control_timestep=0.05, physics_timestep=physics_settings.TIMESTEP,
+               control_timestep=CONTROL_TIMESTEP, physics_timestep=physics_settings.TIMESTEP,
                connection_reward=1.0, completion_bonus=10.0, initializer=None):
     self._arena, self._furniture, self._robot = arena, furniture, robot
     physics_settings.configure_arena(arena.mjcf_model)
