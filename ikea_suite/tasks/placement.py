@@ -108,16 +108,23 @@ class ScatteredParts(composer.Initializer):
     return [[i for i in range(num_parts) if group[i] == g] for g in sorted(set(group))]
 
   def _sample_xy(self, random_state, radius, placed):
-    for attempt in range(self._max_attempts):
+    centres = np.array([xy for xy, _ in placed]).reshape(-1, 2)
+    radii = np.array([r for _, r in placed])
+    for attempt in range(0, self._max_attempts, _BATCH):
       # A crowded ring widens by one part width every 100 failed draws.
       width = self._spread + (attempt // 100) * (2 * radius + self._gap)
-      r = random_state.uniform(self._inner + radius, self._inner + radius + width)
-      angle = random_state.uniform(-np.pi, np.pi)
-      xy = r * np.array([np.cos(angle), np.sin(angle)])
-      if all(np.linalg.norm(xy - other) > radius + other_r + self._gap for other, other_r in placed):
-        return xy
+      r = random_state.uniform(self._inner + radius, self._inner + radius + width, size=_BATCH)
+      angle = random_state.uniform(-np.pi, np.pi, size=_BATCH)
+      xy = r[:, None] * np.stack([np.cos(angle), np.sin(angle)], axis=1)
+      gaps = np.linalg.norm(xy[:, None] - centres[None], axis=2) - radii - radius - self._gap
+      free = np.flatnonzero((gaps > 0).all(axis=1))
+      if len(free):
+        return xy[free[0]]
     raise composer.EpisodeInitializationError(
         f"could not place a part of radius {radius:.2f} m without overlap; raise `spread`")
+
+
+_BATCH = 100   # candidate positions drawn at once; the ring widens after each batch
 
 
 def preassembled_range(preassembled):
