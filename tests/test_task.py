@@ -239,3 +239,18 @@ def test_next_pair_adapts_when_parts_are_joined_out_of_order(env):
   moving, target = task.suggested_parts()
   assert target in (top, legs[3]) and moving not in (top, legs[3])
   assert first[0] != legs[3] or moving != legs[3]
+
+
+def test_reset_restores_the_episode_without_recompiling(env):
+  physics = env.physics
+  model_ptr = physics.model.ptr
+  contype = physics.model.geom_contype.copy()
+  top, legs = top_and_legs(env)
+  helpers.place_assembled(env, [top, legs[0]])
+  env.step(helpers.connect_action(env))
+  assert env.task.state.same_group(top, legs[0])
+  assert not np.array_equal(physics.model.geom_contype, contype)
+  env.reset()
+  assert env.physics is physics and env.physics.model.ptr is model_ptr   # same compiled model
+  np.testing.assert_array_equal(physics.model.geom_contype, contype)
+  assert not physics.data.eq_active.any() and env.task.state.num_groups == len(env.task.furniture.parts)
