@@ -46,6 +46,7 @@ def test_the_lack_style_side_table_weighs_like_the_real_one():
   spec = model_format.load_spec(catalog.path_of("table_four_leg_lack"))
   top = spec.parts[spec.part_index("top")].mass
   assert 2.0 <= top <= 3.0          # PHYSICS.md: a 55 x 55 x 5 cm honeycomb top 2-3 kg
+  assert 150 <= top / (0.55 * 0.55 * 0.05) <= 300   # PHYSICS.md: 150-300 kg/m^3 effective
   assert 3.0 <= spec.mass <= 5.0    # PHYSICS.md: the side table 3-5 kg (listed at 3.6 kg)
   # A solid board of that size at particleboard density would weigh about 10 kg.
   solid = mp.solid_box((0.55, 0.55, 0.05), cons.PARTICLEBOARD_DENSITY).mass

@@ -39,9 +39,10 @@ FIBREBOARD_DENSITY = 750.0      # PHYSICS.md: MDF / fibreboard 650-800
 HARDBOARD_DENSITY = 800.0       # PHYSICS.md: fibreboard 650-800; hardboard is the dense end
 STEEL_DENSITY = 7850.0          # PHYSICS.md: steel 7850
 PLASTIC_DENSITY = 950.0         # PHYSICS.md: ABS / PP 900-1100; PP boxes sit near 900
-# Paper honeycomb: kraft paper cells of a few kg per m^2 of cell wall make a
-# core of 20-40 kg/m^3; the low end, because PHYSICS.md's whole 55 x 55 x 5 cm
-# top weighs 2-3 kg and the faces and frame already account for most of that.
+# Paper honeycomb core. No measured figure at hand: PHYSICS.md gives the whole
+# board (150-300 kg/m^3 effective; a 55 x 55 x 5 cm top 2-3 kg), and the faces
+# and frame below already make 2.6 kg of such a top, so the core is what is left,
+# a few tenths of a kilogram (0.29 kg at this density).
 PAPER_CORE_DENSITY = 25.0
 
 
