@@ -59,8 +59,9 @@ CHEST = Reference("chest of 3 drawers", (0.80, 0.48, 0.78), 30, 45, _P)
 DESK = Reference("desk", (1.30, 0.65, 0.74), 15, 30, _P + " (middle size, 74 cm high assumed)")
 # A 90 x 200 cm mattress in a frame of 2 cm boards with an 80 cm headboard.
 BED = Reference("single bed frame, pine", (0.96, 2.06, 0.80), 15, 30, _P + " (frame size assumed)")
-# Solid-board seating heavier than PHYSICS.md's chairs and stools: a bench of 3/4 inch
-# (19 mm) oak, 21 x 11 x 19.5 inches, "weight approx 15 lbs" (medievaloak.com, Pr-Bench).
+# Solid-board seating heavier than PHYSICS.md's chairs and stools: a bench "built of
+# 3/4 inch oak", "approximate dimensions 21 x 19-1/2 x 11 inches" (read as length,
+# height, depth), "weight approx 15 lbs" (medievaloak.com, Pr-Bench).
 OAK_BENCH = Reference("bench, 19 mm solid oak boards", (0.533, 0.279, 0.495), 6.8, 6.8,
                       "medievaloak.com/Pr-Bench.html")
 
