@@ -2,6 +2,7 @@
 
     ikea-suite-rollout                       # the Cursor oracle on the default furniture
     ikea-suite-rollout --policy random --furniture chair_back_ivar --episodes 3
+    ikea-suite-rollout --list                # the furniture catalog with part counts and masses
 """
 
 import argparse
@@ -12,6 +13,7 @@ import numpy as np
 
 import ikea_suite  # sets MUJOCO_GL=egl on a display-less Linux machine
 from ikea_suite.oracle import cursor_oracle
+from ikea_suite.props import catalog
 
 POLICIES = ("oracle", "random")
 
@@ -46,6 +48,13 @@ def run_episode(env, policy):
           "ended_by": env.termination_reason or "time limit", "blocked_connects": blocked}
 
 
+def print_catalog():
+  """One line per furniture model: name, category, parts and assembled mass."""
+  print(f"{'furniture':44s} {'category':11s} {'parts':>5s} {'mass kg':>8s}")
+  for e in catalog.entries().values():
+    print(f"{e.name:44s} {e.category:11s} {e.num_parts:5d} {e.mass:8.1f}")
+
+
 def main(argv=None):
   parser = argparse.ArgumentParser(description="Run ikea_suite episodes headless.")
   parser.add_argument("--furniture", default=ikea_suite.DEFAULT_FURNITURE)
@@ -54,7 +63,12 @@ def main(argv=None):
   parser.add_argument("--episodes", type=int, default=1)
   parser.add_argument("--seed", type=int, default=0)
   parser.add_argument("--time-limit", type=float, default=None, help="seconds of simulated time")
+  parser.add_argument("--list", action="store_true",
+                      help="print the furniture catalog (parts, mass) and exit")
   args = parser.parse_args(argv)
+  if args.list:
+    print_catalog()
+    return 0
   options = {} if args.time_limit is None else {"time_limit": args.time_limit}
   try:
     env = ikea_suite.load(args.furniture, args.robot, seed=args.seed, **options)

@@ -8,6 +8,7 @@ import pytest
 import trimesh
 
 from ikea_suite.design import blueprint as bp
+from ikea_suite.design import construction
 from ikea_suite.design import decompose
 from ikea_suite.design import import_model
 from ikea_suite.design import mjcf_writer
@@ -31,7 +32,8 @@ def test_validate_command_reports_and_exits_zero(capsys):
 
 
 def _board(size, material="birch"):
-  return [bp.Geom("box", tuple(s / 2 for s in size), material=material)]
+  return [bp.Geom("box", tuple(s / 2 for s in size), material=material,
+                  construction=construction.BIRCH)]
 
 
 def _stand(name, top_z=0.4, leg_x=0.2, top_offset=0.0, top_size=(0.5, 0.4, 0.03)):

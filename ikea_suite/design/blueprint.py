@@ -23,6 +23,9 @@ class Geom:
   mesh: str = ""                 # asset name when type == "mesh"
   collide: bool = True           # False: a visual-only geom
   visible: bool = True           # False: a collision-only geom, hidden (group 3)
+  # What it is made of (construction.Construction); None: it adds no mass, because
+  # it only shows or only collides for a shape whose mass another geom carries.
+  construction: object = None
 
 
 @dataclasses.dataclass

@@ -16,7 +16,11 @@ Meshes are in the part's own frame (metres after `scale`); `pos` and `quat`
 place each part in the assembled furniture, floor at z = 0. Each connection
 puts a connector on both parts at one world frame (`up` is the connector's
 z axis, `forward` its x axis; `twists` are the allowed turns about up in
-degrees, [] for any). A convex mesh collides as itself; a concave one
+degrees, [] for any). A part's optional "construction" names what it is made
+of, one of the solid constructions of construction.py ("particleboard",
+"solid pine", "solid birch", "solid oak", "MDF"; default particleboard, the
+usual flat-pack board): its mass is the mesh's volume at that density. A convex
+mesh collides as itself; a concave one
 through coacd convex pieces, cached by content hash (see decompose). The
 written model then goes through the same validation as the catalog.
 """
@@ -31,6 +35,7 @@ import trimesh
 
 from ikea_suite import geometry
 from ikea_suite.design import blueprint as bp
+from ikea_suite.design import construction as cons
 from ikea_suite.design import decompose
 from ikea_suite.design import materials
 from ikea_suite.design import mjcf_writer
@@ -47,12 +52,15 @@ def load_mesh(path, scale=1.0):
   return mesh
 
 
-def part_geometry(furniture, mesh, prefix, material):
+SOLID_CONSTRUCTIONS = {c.name: c for c in cons.ALL if c.kind == cons.SOLID}
+
+
+def part_geometry(furniture, mesh, prefix, material, construction=cons.PARTICLEBOARD):
   """Visual mesh plus collision: the mesh itself when convex, else its coacd pieces."""
   if mesh.is_convex:
     name = part_geoms.register_mesh(furniture, mesh, prefix)
-    return [bp.Geom("mesh", mesh=name, material=material)]
-  return part_geoms.concave(furniture, mesh, prefix, material)
+    return [bp.Geom("mesh", mesh=name, material=material, construction=construction)]
+  return part_geoms.concave(furniture, mesh, prefix, material, construction)
 
 
 def blueprint_from_spec(spec, base_dir="."):
@@ -70,10 +78,15 @@ def blueprint_from_spec(spec, base_dir="."):
     if material not in materials.MATERIALS:
       raise ValueError(f"part {item['name']!r}: material {material!r} is not one of "
                        f"{sorted(materials.MATERIALS)}")
+    construction = item.get("construction", cons.PARTICLEBOARD.name)
+    if construction not in SOLID_CONSTRUCTIONS:
+      raise ValueError(f"part {item['name']!r}: construction {construction!r} is not one of "
+                       f"{sorted(SOLID_CONSTRUCTIONS)}")
     mesh = load_mesh(base_dir / item["mesh"], item.get("scale", 1.0))
     rot = geometry.quat_to_mat(np.asarray(item.get("quat", (1, 0, 0, 0)), float))
     furniture.add_part(item["name"], item["pos"], rot,
-                       part_geometry(furniture, mesh, item["name"], material))
+                       part_geometry(furniture, mesh, item["name"], material,
+                                     SOLID_CONSTRUCTIONS[construction]))
   names = {p.name for p in furniture.parts}
   for c in spec["connections"]:
     for key in ("a", "b"):

@@ -1,4 +1,8 @@
-"""Visual materials shared by every furniture model: wood tones, laminates, metal."""
+"""Visual materials shared by every furniture model: wood tones, laminates, metal.
+
+These are finishes: how a part looks. What it weighs comes from its
+construction (construction.py), which the family code assigns.
+"""
 
 # name -> (rgba, specular, shininess)
 MATERIALS = {
@@ -10,9 +14,3 @@ MATERIALS = {
     "black_laminate": ((0.12, 0.12, 0.13, 1), 0.4, 0.5),
     "metal": ((0.62, 0.64, 0.67, 1), 0.8, 0.8),
 }
-
-# kg per cubic metre, for the mass of parts made of each material
-DENSITY = {
-    "metal": 2700.0,  # hollow steel and aluminium profiles average out near aluminium
-}
-DEFAULT_DENSITY = 600.0   # particleboard and solid pine

@@ -1,4 +1,9 @@
-"""Writes a Blueprint as one self-describing furniture MJCF file (see model_format)."""
+"""Writes a Blueprint as one self-describing furniture MJCF file (see model_format).
+
+Every part body gets an explicit `<inertial>` computed from the constructions
+of its geoms (mass_properties): MuJoCo then ignores geom-derived inertia
+(compiler `inertiafromgeom="auto"`), so geoms carry no density.
+"""
 
 import pathlib
 import types
@@ -9,6 +14,7 @@ import numpy as np
 from ikea_suite import geometry
 from ikea_suite import physics_settings
 from ikea_suite.assembly import mating
+from ikea_suite.design import mass_properties
 from ikea_suite.design import materials
 from ikea_suite.props import model_format
 
@@ -26,18 +32,30 @@ def _quat(rot):
 
 def _add_geom(body, part, index, geom):
   attrs = {"name": f"{part.name}_geom{index}", "type": geom.type, "material": geom.material,
-           "pos": _fmt(geom.pos), "quat": _quat(geom.rot),
-           "density": f"{materials.DENSITY.get(geom.material, materials.DEFAULT_DENSITY):g}"}
+           "pos": _fmt(geom.pos), "quat": _quat(geom.rot)}
   if geom.type == "mesh":
     attrs["mesh"] = geom.mesh
   else:
     attrs["size"] = _fmt(geom.size)
   if not geom.collide:
-    attrs.update(contype="0", conaffinity="0", group="1", density="0")
+    attrs.update(contype="0", conaffinity="0", group="1")
   if not geom.visible:
     del attrs["material"]
     attrs.update(group="3", rgba="0 0 0 0")
   ET.SubElement(body, "geom", attrs)
+
+
+def _add_inertial(body, part, meshes):
+  """The part's mass, centre of mass and full inertia tensor (about the centre of mass).
+
+  Inertia is written with 8 significant digits: a thin sheet's principal moments
+  nearly meet the triangle inequality (Ixx + Iyy >= Izz), which 6 digits can break.
+  """
+  props = mass_properties.part_properties(part, meshes)
+  i = props.inertia
+  full = [i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]]
+  ET.SubElement(body, "inertial", pos=_fmt(props.com), mass=f"{props.mass:.6g}",
+                fullinertia=" ".join(f"{v:.8g}" if abs(v) > 1e-12 else "0" for v in full))
 
 
 def mesh_file_names(blueprint):
@@ -75,6 +93,7 @@ def blueprint_to_xml(blueprint, mesh_files=None):
   for part in blueprint.parts:
     body = ET.SubElement(world, "body", name=part.name, pos=_fmt(part.pos), quat=_quat(part.rot))
     ET.SubElement(body, "freejoint", name=part.name)
+    _add_inertial(body, part, blueprint.meshes)
     for i, geom in enumerate(part.geoms):
       _add_geom(body, part, i, geom)
     for c in part.connectors:

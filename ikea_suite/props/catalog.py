@@ -1,8 +1,8 @@
 """The furniture catalog: every model file under models/furniture, with tags from its metadata.
 
 Names read category_family_variant (e.g. table_four_leg_lack). Each entry
-carries its category, family and variant, part and connection counts, and
-tags: the category, the family, `parts_N`, and `concave` when some part
+carries its category, family and variant, part and connection counts, its
+assembled mass in kg (as MuJoCo compiles the file), and tags: the category, the family, `parts_N`, and `concave` when some part
 collides through convex pieces of a decomposed mesh.
 """
 
@@ -26,6 +26,7 @@ class Entry:
   variant: str = ""
   description: str = ""
   num_connections: int = 0    # connections an assembly makes: parts - 1
+  mass: float = 0.0           # kg, all parts together
 
 
 def _has_mesh_collision(spec):
@@ -46,7 +47,7 @@ def entries():
       tags.add("concave")
     out[path.stem] = Entry(path.stem, str(path), category, len(spec.parts),
                            frozenset(tags - {""}), meta.get("family", ""), meta.get("variant", ""),
-                           meta.get("description", ""), len(spec.parts) - 1)
+                           meta.get("description", ""), len(spec.parts) - 1, spec.mass)
   return out
 
 

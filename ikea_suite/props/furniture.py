@@ -29,9 +29,13 @@ class Furniture(composer.Entity):
     self._body_ids = None
 
   def attach_to(self, arena):
-    """Adds every part to `arena` as a free body; returns their attachment frames."""
+    """Adds every part to `arena` as a free body carrying the part's inertial from its file;
+    returns their attachment frames."""
     arena.attach(self)
     self._frames = [arena.add_free_entity(p) for p in self._parts]
+    for part, frame in zip(self._parts, self._frames):
+      if part.inertial is not None:
+        frame.add("inertial", **part.inertial)
     return self._frames
 
   def _build_observables(self):

@@ -41,6 +41,7 @@ class PartSpec:
   rot: np.ndarray            # assembled 3x3 rotation
   element: ET.Element        # the <body> element, children copied into the part entity
   bounds: np.ndarray         # (2, 3) axis-aligned bounds of its collision geoms, part frame
+  mass: float = 0.0          # kg, as MuJoCo compiles it (the body's <inertial> when it has one)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -53,6 +54,22 @@ class FurnitureSpec:
   metadata: dict
   assets: ET.Element        # the file's <asset> element (may be empty)
   compiler: dict            # attributes of <compiler>, e.g. meshdir
+
+  @property
+  def mass(self):
+    """Total mass of the assembled furniture, kg."""
+    return sum(p.mass for p in self.parts)
+
+  def extents(self):
+    """(3,) size in metres of the assembled furniture's axis-aligned box (collision geoms)."""
+    corners = []
+    for p in self.parts:
+      lo, hi = p.bounds
+      box = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                      for z in (lo[2], hi[2])])
+      corners.append(box @ p.rot.T + p.pos)
+    corners = np.concatenate(corners)
+    return corners.max(0) - corners.min(0)
 
   def part_index(self, name):
     return [p.name for p in self.parts].index(name)

@@ -143,7 +143,8 @@ def _read_parts(root, model, path):
     body_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
     parts.append(furniture_spec.PartSpec(
         name=name, pos=pos, rot=rot, element=body,
-        bounds=_collision_bounds(model, body_id, path, label)))
+        bounds=_collision_bounds(model, body_id, path, label),
+        mass=float(model.body_mass[body_id])))
   return parts
 
 

@@ -1,4 +1,11 @@
-"""One rigid furniture part as a composer entity, attached to the arena as a free body."""
+"""One rigid furniture part as a composer entity, attached to the arena as a free body.
+
+The part's `<inertial>` (its true mass from its construction, see
+ikea_suite.design.construction) cannot sit in an entity's worldbody, so the
+entity keeps its attributes and the furniture puts them on the free body it
+attaches the part to (`Furniture.attach_to`). Without that the body would get
+geom-derived inertia at MuJoCo's default density instead.
+"""
 
 import copy
 import pathlib
@@ -7,7 +14,7 @@ import xml.etree.ElementTree as ET
 from dm_control import composer
 from dm_control import mjcf
 
-_SKIPPED_TAGS = ("freejoint", "joint", "inertial")
+_SKIPPED_TAGS = ("freejoint", "joint", "inertial")   # the arena adds the joint; see inertial
 
 
 def _referenced_assets(body, assets):
@@ -38,6 +45,8 @@ class Part(composer.Entity):
         ET.tostring(root, encoding="unicode"),
         model_dir=str(pathlib.Path(furniture_spec.path).parent))
     self._spec = spec
+    inertial = spec.element.find("inertial")
+    self._inertial = dict(inertial.attrib) if inertial is not None else None
     self._sites = {s.name: s for s in self._mjcf_root.worldbody.find_all("site")}
 
   @property
@@ -47,6 +56,12 @@ class Part(composer.Entity):
   @property
   def spec(self):
     return self._spec
+
+  @property
+  def inertial(self):
+    """The attributes of the part's <inertial> in its file (mass, pos, fullinertia, ...),
+    or None when the file leaves inertia to its geoms."""
+    return None if self._inertial is None else dict(self._inertial)
 
   def site(self, name):
     return self._sites[name]

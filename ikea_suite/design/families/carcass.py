@@ -5,6 +5,11 @@ are all this box with different fronts. Coordinates: the floor is z = 0,
 the front faces -y, x runs across. Horizontal boards (bottom, shelves, top)
 are one size, so all of them are the same interchangeable part; the two side
 panels are identical too. Doors and drawers attach to the side panels.
+
+Constructions: sides, horizontal boards, plinth, doors, drawer fronts and drawer
+sides are particleboard; the back panel and drawer bottoms are 3 mm hardboard
+(construction.HARDBOARD), modelled as thicker collision boxes that weigh what
+the sheet weighs.
 """
 
 import dataclasses
@@ -12,9 +17,10 @@ import dataclasses
 import numpy as np
 
 from ikea_suite.design import blueprint as bp
+from ikea_suite.design import construction as cons
 from ikea_suite.design import part_geoms
 
-BACK = 0.008      # hardboard back panel
+BACK = 0.008      # collision thickness of the back panel; it weighs as 3 mm hardboard
 GAP = 0.003       # clearance around fronts, drawers and back panels
 
 
@@ -47,8 +53,9 @@ def build(furniture, width, depth, height, levels, board=0.018, plinth=0.0, back
   for i, sx in enumerate((-1, 1)):
     x = sx * (width / 2 - board / 2)
     sides.append(furniture.add_part(f"side{i}", (x, 0, height / 2), geoms=part_geoms.board(
-        furniture, (board, depth, height), material)))
-  shelf_geoms = part_geoms.board(furniture, (inner - 2 * GAP, shelf_depth, board), material)
+        furniture, (board, depth, height), material, cons.PARTICLEBOARD)))
+  shelf_geoms = part_geoms.board(furniture, (inner - 2 * GAP, shelf_depth, board), material,
+                                 cons.PARTICLEBOARD)
   for k, z in enumerate(levels):
     shelf = furniture.add_part(f"shelf{k}", (0, shelf_y, z), geoms=shelf_geoms)
     for side, sx in zip(sides, (-1, 1)):
@@ -61,7 +68,8 @@ def build(furniture, width, depth, height, levels, board=0.018, plinth=0.0, back
     y = depth / 2 - BACK / 2
     panel = furniture.add_part("back", (0, y, plinth + GAP + back_height / 2),
                                geoms=part_geoms.board(furniture, (inner - 2 * GAP, BACK, back_height),
-                                                      back_material or material, bevel=0.001))
+                                                      back_material or material, cons.HARDBOARD,
+                                                      bevel=0.001))
     for side, sx in zip(sides, (-1, 1)):
       furniture.connect(panel, side, (sx * inner / 2, y, plinth + GAP + back_height / 2),
                         up=(sx, 0, 0), forward=(0, 0, 1), type_a="back_edge",
@@ -69,7 +77,7 @@ def build(furniture, width, depth, height, levels, board=0.018, plinth=0.0, back
   if plinth > 0:
     y = -depth / 2 + 0.03 + board / 2
     kick = furniture.add_part("plinth", (0, y, plinth / 2 - GAP / 2), geoms=part_geoms.board(
-        furniture, (inner - 2 * GAP, board, plinth - GAP), material))
+        furniture, (inner - 2 * GAP, board, plinth - GAP), material, cons.PARTICLEBOARD))
     for side, sx in zip(sides, (-1, 1)):
       furniture.connect(kick, side, (sx * inner / 2, y, plinth / 2), up=(sx, 0, 0),
                         forward=(0, 0, 1), type_a="plinth_end", type_b="side_plinth_slot",
@@ -92,7 +100,8 @@ def add_doors(carcass, bottom, top, count=2, material=None):
   width = c.width / count - 2 * GAP
   height = top - bottom - 2 * GAP
   y = -c.depth / 2 - GAP - c.board / 2
-  geoms = part_geoms.board(f, (width, c.board, height), material or "white_laminate")
+  geoms = part_geoms.board(f, (width, c.board, height), material or "white_laminate",
+                           cons.PARTICLEBOARD)
   z = (bottom + top) / 2
   for i in range(count):
     sx = (-1, 1)[i]
@@ -118,10 +127,12 @@ def add_drawers(carcass, bottom, top, count, material=None, front_material=None)
   box_h = pitch - 0.04
   front = (c.width - 2 * GAP, t + 0.004, pitch - 2 * GAP)
   mat, front_mat = material or "birch", front_material or "white_laminate"
-  geoms = (part_geoms.box((box_w, box_d, t), mat, pos=(0, 0, -box_h / 2 + t / 2))
-           + part_geoms.board(f, front, front_mat, pos=(0, -box_d / 2 - front[1] / 2, 0))
-           + part_geoms.box((box_w, t, box_h - t), mat, pos=(0, box_d / 2 - t / 2, t / 2))
-           + sum((part_geoms.box((t, box_d - 2 * t, box_h - t), mat,
+  pb = cons.PARTICLEBOARD
+  geoms = (part_geoms.box((box_w, box_d, t), mat, cons.HARDBOARD, pos=(0, 0, -box_h / 2 + t / 2))
+           + part_geoms.board(f, front, front_mat, pos=(0, -box_d / 2 - front[1] / 2, 0),
+                              construction=pb)
+           + part_geoms.box((box_w, t, box_h - t), mat, pb, pos=(0, box_d / 2 - t / 2, t / 2))
+           + sum((part_geoms.box((t, box_d - 2 * t, box_h - t), mat, pb,
                                  pos=(sx * (box_w / 2 - t / 2), 0, t / 2)) for sx in (-1, 1)), []))
   y = -c.depth / 2 - GAP + box_d / 2      # the front overlays the carcass edges
   for k in range(count):

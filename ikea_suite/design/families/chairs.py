@@ -1,9 +1,13 @@
 """Chairs: four legs under a seat with a backrest (flat, framed with an opening, or curved),
-and armchairs whose two side frames are legs and armrests in one."""
+and armchairs whose two side frames are legs and armrests in one.
+
+Every chair part is solid wood (PHYSICS.md: "dining chair, solid wood"); painted
+ones are pine (construction.solid_wood)."""
 
 import numpy as np
 
 from ikea_suite.design import blueprint as bp
+from ikea_suite.design import construction as cons
 from ikea_suite.design import part_geoms
 from ikea_suite.design import shapes
 from ikea_suite.design.families import tables
@@ -15,9 +19,10 @@ def _seat_and_legs(furniture, seat_width, seat_depth, seat_height, seat_thicknes
                    material, round_legs):
   leg_length = seat_height - seat_thickness
   seat = furniture.add_part("seat", (0, 0, seat_height - seat_thickness / 2), geoms=part_geoms.board(
-      furniture, (seat_width, seat_depth, seat_thickness), material))
+      furniture, (seat_width, seat_depth, seat_thickness), material, cons.solid_wood(material)))
   dx, dy = seat_width / 2 - leg_side / 2, seat_depth / 2 - leg_side / 2
-  legs = tables._leg_geoms(furniture, leg_side, leg_length, material, round_legs)
+  legs = tables._leg_geoms(furniture, leg_side, leg_length, material, round_legs,
+                           cons.solid_wood(material))
   for i, (sx, sy) in enumerate(((1, 1), (-1, 1), (-1, -1), (1, -1))):
     leg = furniture.add_part(f"leg{i}", (sx * dx, sy * dy, leg_length / 2), geoms=legs)
     furniture.connect(leg, seat, (sx * dx, sy * dy, leg_length), up=(0, 0, 1), forward=(1, 0, 0),
@@ -40,17 +45,19 @@ def back_chair(name, variant, seat_width=0.42, seat_depth=0.42, seat_height=0.45
                            f"chair with a {back} backrest, seat at {seat_height:.2f} m")
   seat = _seat_and_legs(furniture, seat_width, seat_depth, seat_height, seat_thickness, leg_side,
                         material, round_legs)
+  wood = cons.solid_wood(material)
   if back == "board":
-    geoms = part_geoms.board(furniture, (seat_width, back_thickness, back_height), material)
+    geoms = part_geoms.board(furniture, (seat_width, back_thickness, back_height), material, wood)
     back_depth = back_thickness
   elif back == "frame":
     mesh = shapes.frame(seat_width, back_height, back_thickness, 0.05)
-    geoms = part_geoms.concave(furniture, mesh, "chair_frame", material)
+    geoms = part_geoms.concave(furniture, mesh, "chair_frame", material, wood)
     back_depth = back_thickness
   else:
     sagitta = 0.05
     mesh = shapes.curved_board(seat_width, sagitta, back_height, back_thickness)
-    geoms = part_geoms.concave(furniture, mesh, "chair_curve", material, rot=bp.rot_z(np.pi))
+    geoms = part_geoms.concave(furniture, mesh, "chair_curve", material, wood,
+                               rot=bp.rot_z(np.pi))
     back_depth = sagitta + back_thickness
   back_y = -seat_depth / 2 + back_depth / 2
   part = furniture.add_part("back", (0, back_y, seat_height + back_height / 2), geoms=geoms)
@@ -67,7 +74,8 @@ def armchair(name, variant, width=0.62, depth=0.62, seat_height=0.42, arm_height
   furniture = bp.Blueprint(name, "chair", "armrest", variant,
                            f"armchair, {width:.2f} m wide, seat at {seat_height:.2f} m")
   mesh = shapes.frame(depth, arm_height, frame_thickness, border, plane="yz")
-  frame_geoms = part_geoms.concave(furniture, mesh, "arm_frame", material)
+  frame_geoms = part_geoms.concave(furniture, mesh, "arm_frame", material, cons.solid_wood(material))
+  seat_finish = seat_material or material
   inner = width - 2 * frame_thickness
   frames = [furniture.add_part(f"side{i}", (sx * (width / 2 - frame_thickness / 2), 0, arm_height / 2),
                                rot=bp.rot_z(0 if i == 0 else np.pi), geoms=frame_geoms)
@@ -75,7 +83,8 @@ def armchair(name, variant, width=0.62, depth=0.62, seat_height=0.42, arm_height
   z = seat_height - seat_thickness / 2
   seat_depth = depth - 0.04
   seat = furniture.add_part("seat", (0, 0, z), geoms=part_geoms.board(
-      furniture, (inner - 2 * GAP, seat_depth, seat_thickness), seat_material or material))
+      furniture, (inner - 2 * GAP, seat_depth, seat_thickness), seat_finish,
+      cons.solid_wood(seat_finish)))
   for side, sx in zip(frames, (-1, 1)):
     furniture.connect(seat, side, (sx * inner / 2, 0, z), up=(sx, 0, 0), forward=(0, 0, 1),
                       type_a="seat_end", type_b="frame_seat_slot", twists_deg=(0, 180))
@@ -83,7 +92,7 @@ def armchair(name, variant, width=0.62, depth=0.62, seat_height=0.42, arm_height
   back_y = seat_depth / 2 - back_t / 2
   back = furniture.add_part("back", (0, back_y, seat_height + back_height / 2),
                             geoms=part_geoms.board(furniture, (inner - 2 * GAP, back_t, back_height),
-                                                   seat_material or material))
+                                                   seat_finish, cons.solid_wood(seat_finish)))
   furniture.connect(seat, back, (0, back_y, seat_height), up=(0, 0, 1), forward=(1, 0, 0),
                     type_a="seat_back_slot", type_b="back_bottom", twists_deg=(0,))
   return furniture

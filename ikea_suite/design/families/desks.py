@@ -2,6 +2,7 @@
 with a modesty board between them."""
 
 from ikea_suite.design import blueprint as bp
+from ikea_suite.design import construction as cons
 from ikea_suite.design import part_geoms
 from ikea_suite.design.families import carcass
 from ikea_suite.design.families import tables
@@ -15,12 +16,13 @@ def side_unit_desk(name, variant, width=1.2, depth=0.6, height=0.74, top_thickne
   """Two round legs under the left end; a drawer unit (carcass without a top) under the right.
 
   The unit's side panels screw into the top's underside, its drawers hang on
-  its left panel.
+  its left panel. The top is particleboard, the unit a carcass (see carcass),
+  legs steel tube or solid wood by their finish.
   """
   furniture = bp.Blueprint(name, "desk", "side_unit", variant,
                            f"{width:.2f} m desk with a {drawers}-drawer side unit")
   top = furniture.add_part("top", (0, 0, height - top_thickness / 2), geoms=part_geoms.board(
-      furniture, (width, depth, top_thickness), material))
+      furniture, (width, depth, top_thickness), material, cons.PARTICLEBOARD))
   unit_height = height - top_thickness
   unit = bp.Blueprint("unit", "", "", "", "")
   board = 0.016
@@ -41,7 +43,8 @@ def side_unit_desk(name, variant, width=1.2, depth=0.6, height=0.74, top_thickne
     furniture.connect(side, top, (x, 0, z), up=(0, 0, 1), forward=(1, 0, 0),
                       type_a="unit_side_top", type_b="top_unit_slot", twists_deg=(0, 180))
   leg_length = height - top_thickness
-  legs = part_geoms.round_leg(furniture, leg_side / 2, leg_length, leg_material)
+  legs = part_geoms.round_leg(furniture, leg_side / 2, leg_length, leg_material,
+                              cons.leg(leg_material))
   lx = -width / 2 + 0.06
   for i, sy in enumerate((-1, 1)):
     y = sy * (depth / 2 - 0.06)

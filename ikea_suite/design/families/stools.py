@@ -1,8 +1,14 @@
-"""Stools: round seats on round legs, square seats on square legs, and two-step step stools."""
+"""Stools: round seats on round legs, square seats on square legs, two-step step stools and
+pedestal stools.
+
+Wooden stool parts are solid wood (painted ones pine, construction.solid_wood);
+metal legs are steel tube; a pedestal is a steel tube on a steel-plate foot under a
+particleboard seat (birch plywood for a birch one)."""
 
 import math
 
 from ikea_suite.design import blueprint as bp
+from ikea_suite.design import construction as cons
 from ikea_suite.design import part_geoms
 from ikea_suite.design.families import tables
 
@@ -15,9 +21,11 @@ def round_stool(name, variant, legs=3, seat_radius=0.17, seat_thickness=0.03, he
   furniture = bp.Blueprint(name, "stool", "round", variant,
                            f"round stool, {legs} legs, {height:.2f} m high")
   leg_length = height - seat_thickness
-  seat = furniture.add_part("seat", (0, 0, height - seat_thickness / 2), geoms=[
-      bp.Geom("cylinder", (seat_radius, seat_thickness / 2), material=material)])
-  leg_geoms = part_geoms.round_leg(furniture, leg_radius, leg_length, leg_material or material)
+  seat = furniture.add_part("seat", (0, 0, height - seat_thickness / 2), geoms=part_geoms.cylinder(
+      seat_radius, seat_thickness, material, cons.solid_wood(material)))
+  leg_finish = leg_material or material
+  leg_geoms = part_geoms.round_leg(furniture, leg_radius, leg_length, leg_finish,
+                                   cons.leg(leg_finish))
   for i in range(legs):
     angle = 2 * math.pi * i / legs
     x, y = leg_circle * math.cos(angle), leg_circle * math.sin(angle)
@@ -30,7 +38,7 @@ def round_stool(name, variant, legs=3, seat_radius=0.17, seat_thickness=0.03, he
 def square_stool(name, variant, side=0.36, height=0.45, seat_thickness=0.03, leg_side=0.035,
                  material="wood_light"):
   furniture = tables.four_leg_table(name, variant, side, side, height, seat_thickness, leg_side,
-                                    material=material)
+                                    material=material, top=cons.solid_wood(material))
   furniture.category, furniture.family = "stool", "square"
   furniture.description = f"square stool, {side:.2f} m seat, {height:.2f} m high"
   return furniture
@@ -42,14 +50,16 @@ def step_stool(name, variant, width=0.43, depth=0.40, height=0.50, board=0.018,
   furniture = bp.Blueprint(name, "stool", "step", variant,
                            f"two-step stool, {height:.2f} m high")
   inner = width - 2 * board
+  wood = cons.solid_wood(material)
   sides = [furniture.add_part(f"side{i}", (sx * (width / 2 - board / 2), 0, height / 2),
-                              geoms=part_geoms.board(furniture, (board, depth, height), material))
+                              geoms=part_geoms.board(furniture, (board, depth, height), material,
+                                                     wood))
            for i, sx in enumerate((-1, 1))]
   tread_depth = depth / 2 - GAP
   for k, (y, z) in enumerate(((-depth / 4, height / 2 - board / 2),
                               (depth / 4, height - board / 2))):
     tread = furniture.add_part(f"tread{k}", (0, y, z), geoms=part_geoms.board(
-        furniture, (inner - 2 * GAP, tread_depth, board), material))
+        furniture, (inner - 2 * GAP, tread_depth, board), material, wood))
     for side, sx in zip(sides, (-1, 1)):
       furniture.connect(tread, side, (sx * inner / 2, y, z), up=(sx, 0, 0), forward=(0, 0, 1),
                         type_a="tread_end", type_b="side_tread_slot", twists_deg=(0, 180))
@@ -63,11 +73,15 @@ def pedestal_stool(name, variant, seat_radius=0.18, height=0.46, seat_thickness=
   furniture = bp.Blueprint(name, "stool", "pedestal", variant,
                            f"pedestal stool, {height:.2f} m high")
   column = height - seat_thickness - 0.02
-  pedestal = furniture.add_part("pedestal", (0, 0, 0.01), geoms=[
-      bp.Geom("cylinder", (base_radius, 0.01), material=base_material)] + part_geoms.round_leg(
-          furniture, column_radius, column, base_material, pos=(0, 0, 0.01 + column / 2)))
-  seat = furniture.add_part("seat", (0, 0, height - seat_thickness / 2), geoms=[
-      bp.Geom("cylinder", (seat_radius, seat_thickness / 2), material=material)])
+  metal = base_material == "metal"
+  pedestal = furniture.add_part("pedestal", (0, 0, 0.01), geoms=part_geoms.cylinder(
+      base_radius, 0.02, base_material,
+      cons.STEEL_PLATE if metal else cons.solid_wood(base_material)) + part_geoms.round_leg(
+          furniture, column_radius, column, base_material, cons.leg(base_material),
+          pos=(0, 0, 0.01 + column / 2)))
+  seat = furniture.add_part("seat", (0, 0, height - seat_thickness / 2), geoms=part_geoms.cylinder(
+      seat_radius, seat_thickness, material,
+      cons.BIRCH if material == "birch" else cons.PARTICLEBOARD))
   furniture.connect(pedestal, seat, (0, 0, height - seat_thickness), up=(0, 0, 1),
                     forward=(1, 0, 0), type_a="pedestal_top", type_b="seat_socket", twists_deg=())
   return furniture

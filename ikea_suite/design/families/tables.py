@@ -4,6 +4,7 @@ and trestle tables on T-shaped legs. Dimensions follow flat-pack side, coffee an
 import numpy as np
 
 from ikea_suite.design import blueprint as bp
+from ikea_suite.design import construction as cons
 from ikea_suite.design import part_geoms
 from ikea_suite.design import shapes
 
@@ -11,28 +12,35 @@ SQUARE_TWISTS = (0, 90, 180, 270)
 GAP = 0.003
 
 
-def _leg_geoms(furniture, leg_side, length, material, round_legs):
+def _leg_geoms(furniture, leg_side, length, material, round_legs, construction=None):
+  """Legs are solid wood or steel tube by their finish (cons.leg) unless told otherwise."""
+  construction = construction or cons.leg(material)
   if round_legs:
-    return part_geoms.round_leg(furniture, leg_side / 2, length, material)
-  return part_geoms.board(furniture, (leg_side, leg_side, length), material)
+    return part_geoms.round_leg(furniture, leg_side / 2, length, material, construction)
+  return part_geoms.board(furniture, (leg_side, leg_side, length), material, construction)
 
 
 def four_leg_table(name, variant, width=0.55, depth=0.55, height=0.45, top_thickness=0.05,
                    leg_side=0.05, inset=0.0, material="wood_light", leg_material=None,
-                   round_legs=False):
-  """A rectangular top on four legs screwed into its underside; any leg fits any corner."""
+                   round_legs=False, top=cons.PARTICLEBOARD, legs=None):
+  """A rectangular top on four legs screwed into its underside; any leg fits any corner.
+
+  `top` and `legs` are constructions; legs default to solid wood or steel tube by
+  their finish (cons.leg).
+  """
   furniture = bp.Blueprint(name, "table", "four_leg", variant,
                            f"{width:.2f} x {depth:.2f} m table, {height:.2f} m high, four legs")
   leg_length = height - top_thickness
-  top = furniture.add_part("top", (0, 0, height - top_thickness / 2), geoms=part_geoms.board(
-      furniture, (width, depth, top_thickness), material))
+  top_part = furniture.add_part("top", (0, 0, height - top_thickness / 2), geoms=part_geoms.board(
+      furniture, (width, depth, top_thickness), material, top))
   dx = width / 2 - leg_side / 2 - inset
   dy = depth / 2 - leg_side / 2 - inset
-  legs = _leg_geoms(furniture, leg_side, leg_length, leg_material or material, round_legs)
+  leg_geoms = _leg_geoms(furniture, leg_side, leg_length, leg_material or material, round_legs,
+                         legs)
   for i, (sx, sy) in enumerate(((1, 1), (-1, 1), (-1, -1), (1, -1))):
-    leg = furniture.add_part(f"leg{i}", (sx * dx, sy * dy, leg_length / 2), geoms=legs)
-    furniture.connect(leg, top, (sx * dx, sy * dy, leg_length), up=(0, 0, 1), forward=(1, 0, 0),
-                      type_a="leg_top", type_b="top_leg_slot",
+    leg = furniture.add_part(f"leg{i}", (sx * dx, sy * dy, leg_length / 2), geoms=leg_geoms)
+    furniture.connect(leg, top_part, (sx * dx, sy * dy, leg_length), up=(0, 0, 1),
+                      forward=(1, 0, 0), type_a="leg_top", type_b="top_leg_slot",
                       twists_deg=() if round_legs else SQUARE_TWISTS)
   return furniture
 
@@ -40,16 +48,22 @@ def four_leg_table(name, variant, width=0.55, depth=0.55, height=0.45, top_thick
 def round_post_table(name, variant, diameter=0.6, height=0.72, top_thickness=0.025,
                      post_radius=0.035, base_diameter=0.45, base_thickness=0.025,
                      material="white_laminate", post_material="metal"):
-  """A disc top on a central post standing on a round foot; round joints fit at any twist."""
+  """A disc top on a central post standing on a round foot; round joints fit at any twist.
+
+  The top is particleboard; a metal post is a steel tube on a steel-plate foot.
+  """
   furniture = bp.Blueprint(name, "table", "round_post", variant,
                            f"round table, {diameter:.2f} m across, {height:.2f} m high, central post")
   post_length = height - top_thickness - base_thickness
-  base = furniture.add_part("base", (0, 0, base_thickness / 2), geoms=[bp.Geom(
-      "cylinder", (base_diameter / 2, base_thickness / 2), material=post_material)])
+  metal = post_material == "metal"
+  base = furniture.add_part("base", (0, 0, base_thickness / 2), geoms=part_geoms.cylinder(
+      base_diameter / 2, base_thickness, post_material,
+      cons.STEEL_PLATE if metal else cons.solid_wood(post_material)))
   post = furniture.add_part("post", (0, 0, base_thickness + post_length / 2),
-                            geoms=part_geoms.round_leg(furniture, post_radius, post_length, post_material))
-  top = furniture.add_part("top", (0, 0, height - top_thickness / 2), geoms=[bp.Geom(
-      "cylinder", (diameter / 2, top_thickness / 2), material=material)])
+                            geoms=part_geoms.round_leg(furniture, post_radius, post_length,
+                                                       post_material, cons.leg(post_material)))
+  top = furniture.add_part("top", (0, 0, height - top_thickness / 2), geoms=part_geoms.cylinder(
+      diameter / 2, top_thickness, material, cons.PARTICLEBOARD))
   furniture.connect(post, top, (0, 0, height - top_thickness), up=(0, 0, 1), forward=(1, 0, 0),
                     type_a="post_top", type_b="top_post_socket", twists_deg=())
   furniture.connect(base, post, (0, 0, base_thickness), up=(0, 0, 1), forward=(1, 0, 0),
@@ -62,6 +76,9 @@ def coffee_shelf_table(name, variant, width=0.90, depth=0.55, height=0.45, top_t
                        material="wood_light", shelf_material=None):
   """A four-leg coffee table with a lower shelf held between the legs at its corners.
 
+  Built as the Lack coffee table: honeycomb top, hollow fibreboard legs, a
+  particleboard shelf.
+
   The legs are identical: each is the first leg turned a quarter turn per
   corner, so its inner edge, which carries the shelf connector, faces the middle.
   """
@@ -70,12 +87,14 @@ def coffee_shelf_table(name, variant, width=0.90, depth=0.55, height=0.45, top_t
                            f"{height:.2f} m high")
   leg_length = height - top_thickness
   top = furniture.add_part("top", (0, 0, height - top_thickness / 2), geoms=part_geoms.board(
-      furniture, (width, depth, top_thickness), material))
+      furniture, (width, depth, top_thickness), material, cons.HONEYCOMB_BOARD))
   dx, dy = width / 2 - leg_side, depth / 2 - leg_side
   z = shelf_height + shelf_thickness / 2
   shelf = furniture.add_part("shelf", (0, 0, z), geoms=part_geoms.board(
-      furniture, (2 * dx - 2 * GAP, 2 * dy - 2 * GAP, shelf_thickness), shelf_material or material))
-  legs = part_geoms.board(furniture, (leg_side, leg_side, leg_length), material)
+      furniture, (2 * dx - 2 * GAP, 2 * dy - 2 * GAP, shelf_thickness), shelf_material or material,
+      cons.PARTICLEBOARD))
+  legs = part_geoms.board(furniture, (leg_side, leg_side, leg_length), material,
+                          cons.HOLLOW_FIBREBOARD_LEG)
   for i, (sx, sy) in enumerate(((1, 1), (-1, 1), (-1, -1), (1, -1))):
     x, y = sx * (dx + leg_side / 2), sy * (dy + leg_side / 2)
     leg = furniture.add_part(f"leg{i}", (x, y, leg_length / 2), rot=bp.rot_z(np.pi / 2 * i),
@@ -92,16 +111,21 @@ def coffee_shelf_table(name, variant, width=0.90, depth=0.55, height=0.45, top_t
 def trestle_table(name, variant, length=1.4, depth=0.75, height=0.74, top_thickness=0.03,
                   leg_thickness=0.04, stem=0.08, foot=0.06, material="wood_medium",
                   leg_material=None):
-  """A top on two T-shaped trestles (concave: coacd pieces) joined by a stretcher."""
+  """A top on two T-shaped trestles (concave: coacd pieces) joined by a stretcher.
+
+  The top is particleboard; trestles and stretcher are solid wood of their finish.
+  """
   furniture = bp.Blueprint(name, "table", "trestle", variant,
                            f"{length:.2f} x {depth:.2f} m trestle table, {height:.2f} m high")
   leg_height = height - top_thickness
   top = furniture.add_part("top", (0, 0, height - top_thickness / 2), geoms=part_geoms.board(
-      furniture, (length, depth, top_thickness), material))
+      furniture, (length, depth, top_thickness), material, cons.PARTICLEBOARD))
   foot_length = depth - 0.1
   trestle = shapes.extrude_polygon(shapes.t_profile(foot_length, leg_height, stem, foot),
                                    leg_thickness, plane="yz")
-  leg_geoms = part_geoms.concave(furniture, trestle, "trestle", leg_material or material)
+  leg_finish = leg_material or material
+  leg_geoms = part_geoms.concave(furniture, trestle, "trestle", leg_finish,
+                                 cons.solid_wood(leg_finish))
   leg_x = length / 2 - 0.15
   legs = []
   for i, sx in enumerate((-1, 1)):
@@ -113,7 +137,7 @@ def trestle_table(name, variant, length=1.4, depth=0.75, height=0.74, top_thickn
   span = 2 * leg_x - leg_thickness - 2 * GAP
   z = foot + 0.15
   stretcher = furniture.add_part("stretcher", (0, 0, z), geoms=part_geoms.board(
-      furniture, (span, 0.02, 0.08), leg_material or material))
+      furniture, (span, 0.02, 0.08), leg_finish, cons.solid_wood(leg_finish)))
   for leg, sx in zip(legs, (-1, 1)):
     furniture.connect(stretcher, leg, (sx * (leg_x - leg_thickness / 2), 0, z), up=(sx, 0, 0),
                       forward=(0, 0, 1), type_a="stretcher_end", type_b="trestle_stretcher_slot",
@@ -122,7 +146,7 @@ def trestle_table(name, variant, length=1.4, depth=0.75, height=0.74, top_thickn
 
 
 def variants():
-  four = [("lack", {}),
+  four = [("lack", dict(top=cons.HONEYCOMB_BOARD, legs=cons.HOLLOW_FIBREBOARD_LEG)),
           ("w90_birch", dict(width=0.9, depth=0.6, height=0.74, top_thickness=0.03, leg_side=0.045,
                              material="birch")),
           ("w120_white", dict(width=1.2, depth=0.7, height=0.74, top_thickness=0.03, leg_side=0.05,

@@ -25,6 +25,7 @@ def tv_cabinet(name, variant, width=1.2, depth=0.4, height=0.5, front="doors", b
 
 
 def tv_bench(name, variant, **kw):
+  """A Lack-style TV bench: the coffee table's honeycomb top, hollow legs and shelf."""
   furniture = tables.coffee_shelf_table(name, variant, **kw)
   furniture.category, furniture.family = "tv_unit", "bench"
   furniture.description = "TV bench on four legs with a lower shelf"
