@@ -8,6 +8,7 @@ import pytest
 import ikea_suite
 from ikea_suite import physics_settings
 from ikea_suite.design import blueprint as bp
+from ikea_suite.design import construction
 from ikea_suite.design import mjcf_writer
 from ikea_suite.design import rigidity
 from ikea_suite.props import catalog
@@ -76,8 +77,10 @@ def _cantilever(name):
   """A 60 cm particleboard shelf held at one end by two dowels to a post on a wide foot."""
   furniture = bp.Blueprint(name, "shelving", "test", name.split("_")[-1], "cantilever")
   post = furniture.add_part("post", (0, 0, 0.5), geoms=[
-      bp.Geom("box", (0.03, 0.03, 0.5)), bp.Geom("box", (0.3, 0.3, 0.01), pos=(0, 0, -0.49))])
-  shelf = furniture.add_part("shelf", (0.33, 0, 0.8), geoms=[bp.Geom("box", (0.3, 0.15, 0.009))])
+      bp.Geom("box", (0.03, 0.03, 0.5), construction=construction.PINE),
+      bp.Geom("box", (0.3, 0.3, 0.01), pos=(0, 0, -0.49), construction=construction.PINE)])
+  shelf = furniture.add_part("shelf", (0.33, 0, 0.8), geoms=[
+      bp.Geom("box", (0.3, 0.15, 0.009), construction=construction.PARTICLEBOARD)])
   for y in (-0.1, 0.1):
     furniture.connect(post, shelf, (0.03, y, 0.8), (-1, 0, 0), (0, 0, 1), "post_hole", "shelf_dowel")
   return furniture
