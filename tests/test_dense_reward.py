@@ -75,3 +75,23 @@ def test_sparse_is_default_and_unknown_reward_is_rejected():
   with pytest.raises(ikea_suite.UnknownNameError, match="dense"):
     ikea_suite.load("table_four_leg_lack", "cursor", reward="shaped")
   assert rewards.StageWeights().total < 1.0
+
+
+def test_arm_grasp_is_detected_and_return_rises_from_grasp_to_connection():
+  from ikea_suite.oracle import arm_controller
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=0, reward="dense")
+  controller = arm_controller.ArmAssemblyController(env)
+  timestep, total, samples, grasped = env.reset(), 0.0, {}, False
+  for _ in range(500):
+    timestep = env.step(controller(timestep))
+    total += timestep.reward
+    grasped |= env.task.dense_reward.terms["grasp"] == 1.0
+    key = (controller.phase.value, len(env.task.state.connections))
+    samples.setdefault(key, total)
+    if env.task.state.connections:
+      break
+  assert grasped and env.task.state.connections
+  rising = [samples[(phase, 0)] for phase in ("close", "lift", "align", "insert")]
+  rising.append(samples[("insert", 1)])
+  assert np.all(np.diff(rising) > 0), rising
+  env.close()

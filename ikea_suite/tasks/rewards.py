@@ -60,34 +60,54 @@ class StageWeights:
     return self.reach + self.grasp + self.lift + self.distance + self.angle
 
 
-def held_parts_mask(physics, robot, furniture, state) -> np.ndarray:
+def finger_of_body(physics, robot) -> np.ndarray | None:
+  """(arms, bodies) int: which finger of each arm's gripper a body belongs to, -1 for none.
+
+  A finger is the body its joint moves plus every body below it (pads are often
+  children). None for a robot that holds parts by selection (the Cursor).
+  """
+  if hasattr(robot, "held_parts"):
+    return None
+  parent = physics.model.body_parentid
+  out = np.full((len(robot.finger_body_ids), len(parent)), -1)
+  for arm, fingers in enumerate(robot.finger_body_ids):
+    for body in range(len(parent)):
+      ancestor = body
+      while ancestor > 0 and ancestor not in fingers:
+        ancestor = parent[ancestor]
+      if ancestor > 0:
+        out[arm, body] = int(np.flatnonzero(fingers == ancestor)[0])
+  return out
+
+
+def held_parts_mask(physics, robot, furniture, state, fingers: np.ndarray | None) -> np.ndarray:
   """Bool per part: some gripper holds the part's assembled group.
 
   The Cursor holds what it selected (`held_parts`); an arm holds a part that
-  touches at least two of one gripper's finger bodies.
+  touches at least two of one gripper's fingers (`fingers` from `finger_of_body`).
   """
   num_parts = len(furniture.parts)
   direct = np.zeros(num_parts, dtype=bool)
-  if hasattr(robot, "held_parts"):
-    for part in robot.held_parts:
-      if part >= 0:
-        direct[part] = True
+  if fingers is None:
+    held = np.asarray(robot.held_parts)
+    direct[held[held >= 0]] = True
   else:
     contact = physics.data.contact
-    body_of_geom = physics.model.geom_bodyid
-    b1, b2 = body_of_geom[contact.geom1], body_of_geom[contact.geom2]
-    part_of_body = {int(b): i for i, b in enumerate(furniture.body_ids)}
-    for fingers in robot.finger_body_ids:
-      touching = {}
-      for finger, other in ((b1, b2), (b2, b1)):
-        for f, o in zip(finger, other):
-          if f in fingers and int(o) in part_of_body:
-            touching.setdefault(part_of_body[int(o)], set()).add(int(f))
-      for part, touched in touching.items():
-        direct[part] |= len(touched) >= 2
+    body = physics.model.geom_bodyid
+    part_of_body = np.full(physics.model.nbody, -1)
+    part_of_body[furniture.body_ids] = np.arange(num_parts)
+    # (part, finger) touching pairs, with either geom of a contact on the finger.
+    for arm_fingers in fingers:
+      pairs = set()
+      for first, second in ((body[contact.geom1], body[contact.geom2]),
+                            (body[contact.geom2], body[contact.geom1])):
+        finger, part = arm_fingers[first], part_of_body[second]
+        pairs |= {(int(p), int(f)) for p, f in zip(part, finger) if p >= 0 and f >= 0}
+      for p in {p for p, _ in pairs}:
+        if len({f for q, f in pairs if q == p}) >= 2:
+          direct[p] = True
   labels = state.group_labels()
-  held_groups = set(labels[direct])
-  return np.array([labels[p] in held_groups for p in range(num_parts)])
+  return np.isin(labels, labels[direct])
 
 
 def tool_positions(physics, robot) -> np.ndarray:
@@ -115,6 +135,7 @@ class DenseReward:
     self._weights = weights
     self._needed = max(len(task.furniture.parts) - 1, 1)
     self._start_height = None
+    self._fingers = None
     self._potential = 0.0
     self._was_complete = False
     self.terms = {}
@@ -122,6 +143,7 @@ class DenseReward:
   def reset(self, physics) -> None:
     """Records the parts' starting heights and the starting potential."""
     physics.forward()   # the initializer moved parts; derived positions are stale
+    self._fingers = finger_of_body(physics, self._task.robot)
     com = physics.data.xipos[self._task.furniture.body_ids]
     self._start_height = com[:, 2].copy()
     self._was_complete = self._task.state.complete
@@ -144,7 +166,8 @@ class DenseReward:
     if grows.any():
       pairs, moving = pairs[keep], moving[keep]
     scores = task.alignment(physics)
-    held = held_parts_mask(physics, task.robot, furniture, state)[moving].astype(float)
+    held = held_parts_mask(physics, task.robot, furniture, state,
+                           self._fingers)[moving].astype(float)
     com = physics.data.xipos[furniture.body_ids]
     tools = tool_positions(physics, task.robot)
     nearest = np.min(np.linalg.norm(com[moving][:, None, :] - tools[None], axis=-1), axis=1)
