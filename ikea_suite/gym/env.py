@@ -71,7 +71,7 @@ class AssemblyEnv(gymnasium.Env):
     return self._env
 
   def _observation(self, timestep: dm_env.TimeStep) -> dict[str, np.ndarray]:
-    return {name: np.asarray(value) for name, value in timestep.observation.items()}
+    return {name: np.array(value) for name, value in timestep.observation.items()}
 
   def _info(self) -> dict[str, Any]:
     task = self._env.task
