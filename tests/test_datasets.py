@@ -32,7 +32,9 @@ def camera_file(tmp_path_factory):
 def test_file_has_the_robomimic_layout(camera_file):
   with h5py.File(camera_file, "r") as f:
     args = json.loads(f["data"].attrs["env_args"])
-    assert args["furniture"] == FURNITURE and args["options"]["cameras"] == ["front"]
+    assert args["env_name"] == "ikea_suite/Assembly-v0"
+    assert args["env_kwargs"]["furniture"] == FURNITURE
+    assert args["env_kwargs"]["cameras"] == ["front"]
     assert hdf5.demo_names(f) == ["demo_0", "demo_1"]
     assert f["data"].attrs["total"] == 60
     assert sorted(np.concatenate([f["mask/train"][()], f["mask/valid"][()]])) == [b"demo_0",

@@ -1,6 +1,5 @@
 """Which scripted expert drives which robot, and the subtask it is working on."""
 
-from collections.abc import Callable
 from typing import Any
 
 from ikea_suite import errors
@@ -49,6 +48,6 @@ class Expert:
     return phase, -1 if part is None else int(part)
 
 
-def make(env) -> Callable:
+def make(env) -> Expert:
   """The expert for `env`'s robot."""
   return Expert(env)

@@ -1,6 +1,7 @@
 """The demonstration file: robomimic's HDF5 layout plus subtask labels.
 
-    data                         attrs: env_args (JSON), total (samples), ikea_suite_version
+    data                         attrs: env_args (JSON: env_name, type, env_kwargs), total
+                                 (samples), ikea_suite_version
     data/demo_<i>                attrs: seed, model_name, model_version, robot, num_samples, success
     data/demo_<i>/actions        (N, action dim) float64, as the policy sent them
     data/demo_<i>/rewards        (N,) float64
@@ -52,17 +53,25 @@ def model_version(furniture: str) -> str:
     return hashlib.sha256(f.read()).hexdigest()[:12]
 
 
+GYM_ID = "ikea_suite/Assembly-v0"
+
+
 def env_args(furniture: str, robot: str, options: dict[str, Any]) -> dict[str, Any]:
-  """JSON-ready arguments that rebuild the environment: `load(furniture, robot, **options)`."""
-  return {"env_name": "ikea_suite", "furniture": furniture, "robot": robot,
-          "options": {k: list(v) if isinstance(v, tuple) else v for k, v in options.items()}}
+  """robomimic-style env_args that rebuild the environment.
+
+  `env_kwargs` are the keyword arguments of `ikea_suite.load` (furniture,
+  robot and options) and equally of `gymnasium.make(env_name, **env_kwargs)`.
+  """
+  kwargs = {"furniture": furniture, "robot": robot}
+  kwargs.update({k: list(v) if isinstance(v, tuple) else v for k, v in options.items()})
+  return {"env_name": GYM_ID, "type": "ikea_suite", "env_kwargs": kwargs}
 
 
 def load_env(args: dict[str, Any], **overrides: Any):
   """Builds the environment described by `env_args` (options may be overridden)."""
-  options = {k: tuple(v) if isinstance(v, list) else v for k, v in args["options"].items()}
-  options.update(overrides)
-  return ikea_suite.load(args["furniture"], args["robot"], **options)
+  kwargs = {k: tuple(v) if isinstance(v, list) else v for k, v in args["env_kwargs"].items()}
+  kwargs.update(overrides)
+  return ikea_suite.load(**kwargs)
 
 
 def train_valid_split(names: list[str], valid_fraction: float, seed: int = 0):
@@ -78,9 +87,10 @@ def train_valid_split(names: list[str], valid_fraction: float, seed: int = 0):
 def write_demo(group: h5py.Group, episode: recorder.Episode, args: dict[str, Any],
                action_names: list[str] | None = None, compression: str | None = "gzip") -> None:
   """Writes one `Episode` into an (empty) demo group; actions get a `names` attribute."""
-  group.attrs.update({"seed": episode.seed, "model_name": args["furniture"],
-                      "model_version": model_version(args["furniture"]),
-                      "robot": args["robot"], "num_samples": episode.num_samples,
+  kwargs = args["env_kwargs"]
+  group.attrs.update({"seed": episode.seed, "model_name": kwargs["furniture"],
+                      "model_version": model_version(kwargs["furniture"]),
+                      "robot": kwargs["robot"], "num_samples": episode.num_samples,
                       "success": episode.success})
   actions = group.create_dataset("actions", data=episode.actions)
   if action_names:

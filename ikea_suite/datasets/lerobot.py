@@ -105,9 +105,10 @@ def export(path: str, out_dir: str, codec: str = DEFAULT_CODEC, task: str | None
       raise errors.IkeaSuiteError(f"{path} has no demos")
     first = f["data"][names[0]]
     state_keys, video_keys = split_obs(first)
-    control_timestep = args["options"].get("control_timestep", 0.05)
+    kwargs = args["env_kwargs"]
+    control_timestep = kwargs.get("control_timestep", 0.05)
     fps = int(round(1.0 / control_timestep))
-    task = task or f"assemble {args['furniture']}"
+    task = task or f"assemble {kwargs['furniture']}"
     columns = {k: [] for k in ("observation.state", "action", "next.reward", "next.done",
                                "timestamp", "frame_index", "episode_index", "index")}
     episodes, videos, start = [], {k: [] for k in video_keys}, 0
@@ -174,7 +175,7 @@ def export(path: str, out_dir: str, codec: str = DEFAULT_CODEC, task: str | None
                       ("episode_index", "int64"), ("index", "int64"), ("task_index", "int64")):
     features[name] = {"dtype": dtype, "shape": [1], "names": None}
   info = {
-      "codebase_version": CODEBASE_VERSION, "robot_type": args["robot"],
+      "codebase_version": CODEBASE_VERSION, "robot_type": kwargs["robot"],
       "total_episodes": len(names), "total_frames": total, "total_tasks": 1,
       "chunks_size": 1000, "data_files_size_in_mb": 100, "video_files_size_in_mb": 500,
       "fps": fps, "splits": {"train": f"0:{len(names)}"},
