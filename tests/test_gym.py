@@ -19,7 +19,7 @@ _EXPECTED_WARNINGS = ("observation space minimum value is -infinity",
 REPRESENTATIVES = catalog.representatives()
 ARMS = [r for r in ikea_suite.robot_names() if r != "cursor"]
 # Every robot is checked: the Cursor on every category's representative, each arm on a
-# different representative (all 13 x 5 take about 75 s on two cores; see the README).
+# different representative (all 13 x 5 took 194 s on the busy two-core machine; see the README).
 CASES = ([(f, "cursor") for f in REPRESENTATIVES]
          + [(REPRESENTATIVES[(3 * i + 1) % len(REPRESENTATIVES)], arm) for i, arm in enumerate(ARMS)])
 
@@ -91,3 +91,15 @@ def test_async_vector_env_steps_two_processes():
   assert rewards.shape == (2,) and not terminated.any() and not truncated.any()
   assert list(infos["connections"]) == [0, 0]
   envs.close()
+
+
+def test_spec_to_space_mapping_keeps_bounds_and_dtype_limits():
+  from dm_env import specs
+  from ikea_suite.gym import spaces
+  seg = spaces.box_from_spec(specs.Array((4, 5), np.int32))
+  assert seg.dtype == np.int32 and seg.low.min() == np.iinfo(np.int32).min
+  depth = spaces.box_from_spec(specs.Array((4, 5), np.float32))
+  assert depth.dtype == np.float32 and np.isinf(depth.high).all()
+  bounded = spaces.box_from_spec(specs.BoundedArray((3,), np.float64, -1.0, [1.0, 2.0, 3.0]))
+  assert list(bounded.high) == [1.0, 2.0, 3.0] and list(bounded.low) == [-1.0] * 3
+  assert not bounded.contains(np.array([0.0, 2.5, 0.0]))
