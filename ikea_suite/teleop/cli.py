@@ -25,17 +25,19 @@ def run_viewer(session: session_lib.TeleopSession, env, realtime: bool = True) -
   def launch():
     physics = env.physics
     return mujoco.viewer.launch_passive(physics.model.ptr, physics.data.ptr,
-                                        key_callback=session.on_key), physics
-  viewer, shown = launch()
+                                        key_callback=session.on_key)
+  viewer = launch()
   dt = env.control_timestep()
   try:
     while viewer.is_running():
       start = time.perf_counter()
       with viewer.lock():
         event = session.step()
-      if event and env.physics is not shown:   # reset recompiled: show the new model
+      if event:
+        # Reset may recompile and free the model the viewer draws: close it first.
         viewer.close()
-        viewer, shown = launch()
+        session.next_episode()
+        viewer = launch()
         continue
       viewer.sync()
       if realtime:

@@ -3,8 +3,10 @@
 The viewer thread only queues key codes (`on_key`); the main loop calls
 `step()` once per control step, which applies the queued keys, steps the
 environment with the keyboard's action and records the step. ENTER keeps
-the episode, BACKSPACE drops it, an episode that ends by itself is kept;
-each starts the next from seed + 1. `write(path)` saves the kept episodes in
+the episode, BACKSPACE drops it, an episode that ends by itself is kept.
+The next episode (seed + 1) starts with `next_episode()` or the next
+`step()`: a viewer must let go of the old model first, because reset may
+recompile it and free the old one. `write(path)` saves the kept episodes in
 the demonstration format of `ikea_suite.datasets.hdf5`.
 """
 
@@ -32,6 +34,7 @@ class TeleopSession:
     self._keys = collections.deque()
     self.episodes: list[recorder.Episode] = []
     self._seed = int(seed)
+    self._ended = False
     self._start()
 
   def _start(self) -> None:
@@ -41,10 +44,15 @@ class TeleopSession:
     self._recorder = recorder.EpisodeRecorder(self._env, self._seed)
     self._steps = 0
 
-  def _next_episode(self, keep: bool) -> None:
+  def _end_episode(self, keep: bool) -> None:
     if keep and self._steps:
       self.episodes.append(self._recorder.finish())
+    self._ended = True
+
+  def next_episode(self) -> None:
+    """Starts the next episode from the next seed (after an episode ended)."""
     self._seed += 1
+    self._ended = False
     self._start()
 
   def on_key(self, keycode: int) -> None:
@@ -52,11 +60,14 @@ class TeleopSession:
     self._keys.append(int(keycode))
 
   def step(self) -> str | None:
-    """One control step; returns "save", "discard" or "done" when an episode ended."""
+    """One control step; returns "save", "discard" or "done" when the episode ended."""
+    if self._ended:
+      self.next_episode()
     while self._keys:
       event = self.command.press(self._keys.popleft())
       if event:
-        self._next_episode(keep=event == "save")
+        self._keys.clear()
+        self._end_episode(keep=event == "save")
         return event
     self._recorder.before_step(self._timestep.observation)
     action = self.command.action()
@@ -65,7 +76,7 @@ class TeleopSession:
     self._recorder.after_step(action, self._timestep, "teleop", moving)
     self._steps += 1
     if self._timestep.last():
-      self._next_episode(keep=True)
+      self._end_episode(keep=True)
       return "done"
     return None
 
