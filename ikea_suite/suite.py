@@ -20,7 +20,8 @@ DEFAULT_FURNITURE = "table_four_leg_lack"
 DEFAULT_ROBOT = "cursor"
 
 # Option name -> (where it goes, default). Thresholds are flattened for convenience.
-TASK_OPTIONS = ("control_timestep", "physics_timestep", "connection_reward", "completion_bonus")
+TASK_OPTIONS = ("control_timestep", "physics_timestep", "connection_reward", "completion_bonus",
+                "reward")
 THRESHOLD_OPTIONS = {"distance_threshold": "distance", "up_threshold": "up_cos",
                      "forward_threshold": "forward_cos"}
 ENVIRONMENT_OPTIONS = ("time_limit",)
@@ -47,7 +48,7 @@ def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options)
   """Builds the assembly environment of `furniture` with `robot`.
 
   Options: time_limit (s; default 30 + 25 per part); control_timestep, physics_timestep (s);
-  connection_reward, completion_bonus; distance_threshold (m), up_threshold
+  connection_reward, completion_bonus; reward ("sparse" or "dense", tasks/rewards.py); distance_threshold (m), up_threshold
   and forward_threshold (cosines); and the robot's own options (for the
   cursor: move_speed, rotate_speed, grasp_margin, workspace, radius).
   Scene: scene (preset name), spread, preassembled, yaw_range, randomize;

@@ -64,6 +64,11 @@ class CursorOracle:
     self._best, self._since_best = np.inf, 0
     self._bias = [(np.zeros(3), np.zeros(3)) for _ in range(2)]
 
+  @property
+  def subtask(self):
+    """(phase name, part) the mover cursor is working on; part is None before the first."""
+    return self._phase.value, self._part
+
   # -- low-level drives --------------------------------------------------------
 
   def _cursor(self, i):

@@ -274,6 +274,11 @@ class Manipulator(base.Robot):
     """World positions (fingers, 3) of an arm's gripper finger bodies."""
     return physics.data.xpos[self._finger_bodies[arm]].copy()
 
+  @property
+  def finger_body_ids(self):
+    """Per arm, the MuJoCo body ids of its gripper's finger bodies (set after compile)."""
+    return [ids.copy() for ids in self._finger_bodies]
+
   def task_space_target(self, arm=0):
     return self._targets.pos[arm].copy(), self._targets.rot[arm].copy()
 

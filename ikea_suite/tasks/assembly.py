@@ -16,6 +16,7 @@ from ikea_suite.tasks import assembly_state
 from ikea_suite.tasks import collision_groups
 from ikea_suite.tasks import placement
 from ikea_suite.tasks import planner
+from ikea_suite.tasks import rewards
 from ikea_suite.tasks import welds
 
 CONNECT_ACTION = "connect"
@@ -43,11 +44,12 @@ class Assembly(composer.Task):
 
   Reward: `connection_reward` for each new connection plus `completion_bonus`
   when the last part joins, which also ends the episode (discount 0).
+  With `reward="dense"`, staged shaping instead (tasks/rewards.py).
   """
 
   def __init__(self, arena, furniture, robot, thresholds=alignment.Thresholds(),
                control_timestep=CONTROL_TIMESTEP, physics_timestep=physics_settings.TIMESTEP,
-               connection_reward=1.0, completion_bonus=10.0, initializer=None):
+               connection_reward=1.0, completion_bonus=10.0, initializer=None, reward="sparse"):
     self._arena, self._furniture, self._robot = arena, furniture, robot
     physics_settings.configure_arena(arena.mjcf_model)
     self._thresholds = thresholds
@@ -70,6 +72,7 @@ class Assembly(composer.Task):
     self._step_reward = 0.0
     self._blocked = ()
     self._suggestion_key = None
+    self._dense = rewards.make(reward, self, connection_reward, completion_bonus)  # None: sparse
     self._task_observables = {
         "connections": observable.Generic(lambda physics: self._state.adjacency.copy()),
         "connectors_used": observable.Generic(
@@ -125,6 +128,8 @@ class Assembly(composer.Task):
     for pair in getattr(self._initializer, "preassembled_pairs", ()):
       self.connect_in_place(physics, pair)
     self._step_reward = 0.0
+    if self._dense is not None:
+      self._dense.reset(physics)
 
   def before_step(self, physics, action, random_state):
     self._step_reward = 0.0
@@ -136,7 +141,7 @@ class Assembly(composer.Task):
         self._step_reward += self._completion_bonus
 
   def get_reward(self, physics):
-    return self._step_reward
+    return self._step_reward if self._dense is None else self._dense.reward(physics)
 
   def should_terminate_episode(self, physics):
     return self._state.complete
@@ -175,6 +180,11 @@ class Assembly(composer.Task):
   def blocked_connections(self):
     """Why `connect` made no connection on the last step: one message per refused pair."""
     return self._blocked
+
+  @property
+  def dense_reward(self):
+    """The `rewards.DenseReward` in use, or None with the sparse reward."""
+    return self._dense
 
   @property
   def root_part(self):

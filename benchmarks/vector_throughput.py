@@ -1,0 +1,79 @@
+"""Total env steps/s of gymnasium async vector envs, 1, 2, 4, ... processes up to the core count.
+
+Each row steps `gymnasium.make_vec("ikea_suite/Assembly-v0", num_envs=n,
+vectorization_mode="async")` with random actions (state observations, no
+rendering, episodes long enough that no reset falls in the timed window)
+and prints total env steps/s, the speed-up over one plain (unvectorized)
+gymnasium env in this process, and the efficiency (speed-up / n). Usage:
+
+    nice python benchmarks/vector_throughput.py [--steps 400] [--furniture NAME] [--robot cursor]
+        [--max-envs N]
+"""
+
+import argparse
+import os
+import time
+
+import gymnasium
+import numpy as np
+
+import ikea_suite.gym
+
+
+def single_rate(furniture, robot, steps):
+  env = gymnasium.make(ikea_suite.gym.ENV_ID, furniture=furniture, robot=robot, time_limit=1e4)
+  env.reset(seed=0)
+  rng = np.random.default_rng(0)
+  low, high = env.action_space.low, env.action_space.high
+  actions = rng.uniform(low, high, (steps + 20,) + env.action_space.shape)
+  for a in actions[:20]:
+    env.step(a)
+  start = time.perf_counter()
+  for a in actions[20:]:
+    env.step(a)
+  seconds = time.perf_counter() - start
+  env.close()
+  return steps / seconds
+
+
+def vector_rate(furniture, robot, num_envs, steps):
+  envs = gymnasium.make_vec(ikea_suite.gym.ENV_ID, num_envs=num_envs, vectorization_mode="async",
+                            vector_kwargs={"context": "spawn"}, furniture=furniture, robot=robot,
+                            time_limit=1e4)
+  envs.reset(seed=0)
+  envs.action_space.seed(0)
+  for _ in range(20):
+    envs.step(envs.action_space.sample())
+  actions = [envs.action_space.sample() for _ in range(steps)]
+  start = time.perf_counter()
+  for a in actions:
+    envs.step(a)
+  seconds = time.perf_counter() - start
+  envs.close()
+  return num_envs * steps / seconds
+
+
+def main():
+  parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+  parser.add_argument("--steps", type=int, default=400, help="vector steps per row")
+  parser.add_argument("--furniture", default=ikea_suite.DEFAULT_FURNITURE)
+  parser.add_argument("--robot", default=ikea_suite.DEFAULT_ROBOT)
+  parser.add_argument("--max-envs", type=int, default=os.cpu_count() or 1)
+  args = parser.parse_args()
+  counts, n = [], 1
+  while n <= args.max_envs:
+    counts.append(n)
+    n *= 2
+  if counts[-1] != args.max_envs:
+    counts.append(args.max_envs)
+  single = single_rate(args.furniture, args.robot, args.steps)
+  print(f"{args.furniture} with {args.robot}, {os.cpu_count()} cores, random actions, no rendering")
+  print(f"single env (no vector wrapper): {single:.0f} steps/s")
+  print(f"{'processes':>9s} {'total steps/s':>14s} {'speed-up':>9s} {'efficiency':>11s}")
+  for n in counts:
+    rate = vector_rate(args.furniture, args.robot, n, args.steps)
+    print(f"{n:9d} {rate:14.0f} {rate / single:9.2f} {rate / single / n:11.2f}")
+
+
+if __name__ == "__main__":
+  main()

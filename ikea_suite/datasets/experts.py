@@ -1,0 +1,53 @@
+"""Which scripted expert drives which robot, and the subtask it is working on."""
+
+from typing import Any
+
+from ikea_suite import errors
+from ikea_suite.oracle import arm_controller
+from ikea_suite.oracle import cursor_oracle
+
+# robot name -> expert: the Cursor oracle assembles everything; the arm controller
+# drives a single parallel-gripper arm in task space (README, "Scripted Sawyer controller").
+EXPERTS = {"cursor": "cursor_oracle", "sawyer": "arm_controller", "panda": "arm_controller"}
+
+
+class Expert:
+  """A scripted policy plus a reader of its current subtask.
+
+  Args:
+    env: an ikea_suite environment whose robot has an expert (`EXPERTS`).
+
+  Raises:
+    UnknownNameError: the robot has no expert yet.
+  """
+
+  def __init__(self, env):
+    robot = env.task.robot.mjcf_model.model
+    if robot not in EXPERTS:
+      raise errors.UnknownNameError("robot with an expert", robot, EXPERTS)
+    self.name = EXPERTS[robot]
+    if self.name == "cursor_oracle":
+      self._policy = cursor_oracle.CursorOracle(env)
+    else:
+      self._policy = arm_controller.ArmAssemblyController(env)
+
+  def reset(self) -> None:
+    self._policy.reset()
+
+  def __call__(self, timestep: Any):
+    return self._policy(timestep)
+
+  def subtask(self) -> tuple[str, int]:
+    """(phase name, part index the expert is bringing in; -1 for none)."""
+    if self.name == "cursor_oracle":
+      phase, part = self._policy.subtask
+    else:
+      phase = self._policy.phase.value
+      job = self._policy.job
+      part = None if job is None else job[1]
+    return phase, -1 if part is None else int(part)
+
+
+def make(env) -> Expert:
+  """The expert for `env`'s robot."""
+  return Expert(env)

@@ -1,0 +1,131 @@
+"""`AssemblyEnv`: an ikea_suite environment behind the gymnasium 1.x `Env` API.
+
+The adapter is thin: it builds the dm_env environment with `ikea_suite.load`,
+mirrors its specs as spaces (`spaces.py`) and translates time steps.
+
+- `reset(seed=s)` reseeds the environment's random state, so the episode is
+  the one `ikea_suite.load(..., seed=s)` starts with; `reset()` continues the
+  random stream.
+- `terminated` is a final step with discount 0 (assembled, or a physics
+  blow-up); `truncated` a final step with discount 1 (the time limit).
+- `info`: `connections` (connections made so far), `success` (the furniture
+  is one group) and `blocked_connections` (the task's reasons why `connect`
+  made no connection on this step, a tuple of strings).
+- `render_mode="rgb_array"`: `render()` returns an (h, w, 3) uint8 frame of
+  `render_camera` at `render_size`.
+"""
+
+from typing import Any
+
+import dm_env
+import gymnasium
+import numpy as np
+
+import ikea_suite
+from ikea_suite import errors
+from ikea_suite.gym import spaces as spaces_lib
+
+RENDER_MODES = ("rgb_array",)
+_MAX_SEED = 2**32 - 1   # numpy's RandomState, which composer seeds, takes 32-bit seeds
+
+
+class ResetNeeded(errors.IkeaSuiteError, RuntimeError):
+  """`step` was called before `reset` or after the episode ended."""
+
+
+class AssemblyEnv(gymnasium.Env):
+  """gymnasium view of `ikea_suite.load(furniture, robot, **load_options)`.
+
+  Args:
+    furniture: furniture model name (`ikea_suite.furniture_names()`).
+    robot: robot name (`ikea_suite.robot_names()`).
+    render_mode: None or "rgb_array".
+    render_camera: arena camera drawn by `render()` ("front", "top" or "side").
+    render_size: (height, width) of `render()` frames, pixels.
+    **load_options: any option of `ikea_suite.load` (time_limit, reward, cameras, ...).
+  """
+
+  metadata = {"render_modes": list(RENDER_MODES), "render_fps": 20}
+
+  def __init__(self, furniture: str = ikea_suite.DEFAULT_FURNITURE,
+               robot: str = ikea_suite.DEFAULT_ROBOT, render_mode: str | None = None,
+               render_camera: str = "front", render_size: tuple[int, int] = (240, 320),
+               **load_options: Any):
+    if render_mode is not None and render_mode not in RENDER_MODES:
+      raise errors.UnknownNameError("render mode", render_mode, RENDER_MODES)
+    self._env = ikea_suite.load(furniture, robot, **load_options)
+    cameras = self._env.task.arena.cameras
+    if render_camera not in cameras:
+      raise errors.UnknownNameError("camera", render_camera, cameras)
+    self.render_mode = render_mode
+    self._render_camera = self._env.physics.bind(cameras[render_camera]).element_id
+    self._render_size = tuple(int(x) for x in render_size)
+    self.metadata = dict(self.metadata, render_fps=round(1.0 / self._env.control_timestep()))
+    self.observation_space = spaces_lib.dict_from_specs(self._env.observation_spec())
+    self.action_space = spaces_lib.box_from_spec(self._env.action_spec())
+    self._needs_reset = True
+
+  @property
+  def suite_env(self) -> ikea_suite.environment.Environment:
+    """The wrapped dm_control environment (physics, task, specs)."""
+    return self._env
+
+  def _observation(self, timestep: dm_env.TimeStep) -> dict[str, np.ndarray]:
+    return {name: np.array(value) for name, value in timestep.observation.items()}
+
+  def _info(self) -> dict[str, Any]:
+    task = self._env.task
+    return {"connections": len(task.state.connections), "success": bool(task.state.complete),
+            "blocked_connections": tuple(task.blocked_connections)}
+
+  def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+    """Starts an episode.
+
+    Args:
+      seed: reseeds the environment (0 .. 2**32 - 1); the same seed gives the same episode.
+      options: no reset options exist; must be None or empty.
+
+    Returns:
+      (observation, info).
+    """
+    if seed is not None and not 0 <= int(seed) <= _MAX_SEED:
+      raise errors.OptionValueError(f"seed must be in [0, {_MAX_SEED}], got {seed}")
+    if options:
+      raise errors.UnknownNameError("reset option", next(iter(options)), ())
+    super().reset(seed=seed)
+    if seed is not None:
+      self._env.random_state.seed(int(seed))
+    timestep = self._env.reset()
+    self._needs_reset = False
+    return self._observation(timestep), self._info()
+
+  def step(self, action: np.ndarray):
+    """Advances one control step.
+
+    Args:
+      action: array in `action_space` (entries outside [-1, 1] are clipped).
+
+    Returns:
+      (observation, reward, terminated, truncated, info).
+    """
+    if self._needs_reset:
+      raise ResetNeeded("call reset() before step() and after an episode ends")
+    timestep = self._env.step(action)
+    terminated = timestep.last() and timestep.discount == 0.0
+    truncated = timestep.last() and not terminated
+    self._needs_reset = timestep.last()
+    return (self._observation(timestep), float(timestep.reward), bool(terminated),
+            bool(truncated), self._info())
+
+  def render(self) -> np.ndarray | None:
+    """An (h, w, 3) uint8 frame with render_mode "rgb_array"; None without a render mode."""
+    if self.render_mode is None:
+      return None
+    height, width = self._render_size
+    return self._env.physics.render(height, width, camera_id=self._render_camera)
+
+  def close(self) -> None:
+    """Frees the physics and renderers; closing twice is harmless."""
+    if self._env is not None:
+      self._env.close()
+      self._env = None

@@ -1,0 +1,97 @@
+"""Dense reward: staged, potential-based, rising along an oracle episode, never above sparse."""
+
+import numpy as np
+import pytest
+
+import ikea_suite
+from ikea_suite.oracle import cursor_oracle
+from ikea_suite.tasks import rewards
+
+
+def oracle_episode(furniture, seed=0):
+  env = ikea_suite.load(furniture, "cursor", seed=seed, reward="dense")
+  oracle = cursor_oracle.CursorOracle(env)
+  timestep = env.reset()
+  returns, stages, connection_steps = [0.0], [], []
+  while not timestep.last():
+    made = len(env.task.state.connections)
+    timestep = env.step(oracle(timestep))
+    returns.append(returns[-1] + timestep.reward)
+    stage = oracle.subtask + (len(env.task.state.connections),)
+    if not stages or stages[-1][1] != stage:
+      stages.append((len(returns) - 1, stage))
+    if len(env.task.state.connections) > made:
+      connection_steps.append((timestep.reward, env.task.state.complete))
+  return env, np.array(returns), stages, connection_steps
+
+
+@pytest.fixture(scope="module")
+def table_episode():
+  return oracle_episode("table_four_leg_lack")
+
+
+def test_dense_return_rises_at_every_oracle_stage(table_episode):
+  env, returns, stages, _ = table_episode
+  assert env.task.state.complete
+  at_stage_starts = returns[[step for step, _ in stages]]
+  # reach -> raise -> travel -> insert -> connected, for each of the four legs
+  assert len(stages) >= 4 * 4
+  assert np.all(np.diff(at_stage_starts) >= -1e-3), at_stage_starts
+  assert returns[-1] > at_stage_starts[len(at_stage_starts) // 2] > returns[0]
+
+
+def test_dense_never_pays_more_for_a_connection_than_sparse(table_episode):
+  env, _, _, connection_steps = table_episode
+  assert len(connection_steps) == len(env.task.furniture.parts) - 1
+  for reward, complete in connection_steps:
+    sparse = 1.0 + (10.0 if complete else 0.0)   # connection_reward, completion_bonus defaults
+    assert 0.0 < reward <= sparse
+
+
+def test_complete_episode_returns_about_two_for_any_furniture(table_episode):
+  # Potential-based: the return telescopes to Phi(end) - Phi(start) plus the completion term.
+  _, table_returns, _, _ = table_episode
+  env, stool_returns, _, _ = oracle_episode("stool_step_tall_oak")
+  assert env.task.state.complete
+  assert len(env.task.furniture.parts) != 5
+  for total in (table_returns[-1], stool_returns[-1]):
+    assert 1.8 < total <= 2.0 + 1e-9
+
+
+def test_stage_terms_are_named_and_bounded():
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=0, reward="dense")
+  env.reset()
+  terms = env.task.dense_reward.pair_terms(env.physics)
+  assert set(terms) == {"reach", "grasp", "lift", "distance", "angle"}
+  for values in terms.values():
+    assert len(values) and np.all((values >= 0) & (values <= 1))
+  assert not terms["grasp"].any()   # the gripper starts empty
+  env.close()
+
+
+def test_sparse_is_default_and_unknown_reward_is_rejected():
+  env = ikea_suite.load("table_four_leg_lack", "cursor", seed=0)
+  assert env.task.dense_reward is None
+  with pytest.raises(ikea_suite.UnknownNameError, match="dense"):
+    ikea_suite.load("table_four_leg_lack", "cursor", reward="shaped")
+  assert rewards.StageWeights().total < 1.0
+
+
+def test_arm_grasp_is_detected_and_return_rises_from_grasp_to_connection():
+  from ikea_suite.oracle import arm_controller
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=0, reward="dense")
+  controller = arm_controller.ArmAssemblyController(env)
+  timestep, total, samples, grasped = env.reset(), 0.0, {}, False
+  for _ in range(500):
+    timestep = env.step(controller(timestep))
+    total += timestep.reward
+    grasped |= env.task.dense_reward.terms["grasp"] == 1.0
+    key = (controller.phase.value, len(env.task.state.connections))
+    samples.setdefault(key, total)
+    if env.task.state.connections:
+      break
+  assert grasped and env.task.state.connections
+  rising = [samples[(phase, 0)] for phase in ("close", "lift", "align", "insert")]
+  rising.append(samples[("insert", 1)])
+  assert np.all(np.diff(rising) > 0), rising
+  env.close()
