@@ -80,34 +80,34 @@ def finger_of_body(physics, robot) -> np.ndarray | None:
   return out
 
 
-def held_parts_mask(physics, robot, furniture, state, fingers: np.ndarray | None) -> np.ndarray:
-  """Bool per part: some gripper holds the part's assembled group.
+def held_by_tool(physics, robot, furniture, fingers: np.ndarray | None) -> np.ndarray:
+  """(tools, parts) bool: the parts each gripper holds directly.
 
   The Cursor holds what it selected (`held_parts`); an arm holds a part that
-  touches at least two of one gripper's fingers (`fingers` from `finger_of_body`).
+  touches at least two of its gripper's fingers (`fingers` from `finger_of_body`).
   """
   num_parts = len(furniture.parts)
-  direct = np.zeros(num_parts, dtype=bool)
   if fingers is None:
     held = np.asarray(robot.held_parts)
-    direct[held[held >= 0]] = True
-  else:
-    contact = physics.data.contact
-    body = physics.model.geom_bodyid
-    part_of_body = np.full(physics.model.nbody, -1)
-    part_of_body[furniture.body_ids] = np.arange(num_parts)
-    # (part, finger) touching pairs, with either geom of a contact on the finger.
-    for arm_fingers in fingers:
-      pairs = set()
-      for first, second in ((body[contact.geom1], body[contact.geom2]),
-                            (body[contact.geom2], body[contact.geom1])):
-        finger, part = arm_fingers[first], part_of_body[second]
-        pairs |= {(int(p), int(f)) for p, f in zip(part, finger) if p >= 0 and f >= 0}
-      for p in {p for p, _ in pairs}:
-        if len({f for q, f in pairs if q == p}) >= 2:
-          direct[p] = True
-  labels = state.group_labels()
-  return np.isin(labels, labels[direct])
+    out = np.zeros((len(held), num_parts), dtype=bool)
+    out[np.flatnonzero(held >= 0), held[held >= 0]] = True
+    return out
+  out = np.zeros((len(fingers), num_parts), dtype=bool)
+  contact = physics.data.contact
+  body = physics.model.geom_bodyid
+  part_of_body = np.full(physics.model.nbody, -1)
+  part_of_body[furniture.body_ids] = np.arange(num_parts)
+  # (part, finger) touching pairs, with either geom of a contact on the finger.
+  for arm, arm_fingers in enumerate(fingers):
+    pairs = set()
+    for first, second in ((body[contact.geom1], body[contact.geom2]),
+                          (body[contact.geom2], body[contact.geom1])):
+      finger, part = arm_fingers[first], part_of_body[second]
+      pairs |= {(int(p), int(f)) for p, f in zip(part, finger) if p >= 0 and f >= 0}
+    for p in {p for p, _ in pairs}:
+      if len({f for q, f in pairs if q == p}) >= 2:
+        out[arm, p] = True
+  return out
 
 
 def tool_positions(physics, robot) -> np.ndarray:
@@ -166,11 +166,16 @@ class DenseReward:
     if grows.any():
       pairs, moving = pairs[keep], moving[keep]
     scores = task.alignment(physics)
-    held = held_parts_mask(physics, task.robot, furniture, state,
-                           self._fingers)[moving].astype(float)
+    by_tool = held_by_tool(physics, task.robot, furniture, self._fingers)
+    held = np.isin(labels, labels[by_tool.any(axis=0)])[moving].astype(float)
     com = physics.data.xipos[furniture.body_ids]
     tools = tool_positions(physics, task.robot)
-    nearest = np.min(np.linalg.norm(com[moving][:, None, :] - tools[None], axis=-1), axis=1)
+    # A tool busy holding another group (the Cursor's base holding the assembly)
+    # is no help in reaching the moving part, so it does not count.
+    tool_group = np.where(by_tool.any(axis=1), labels[np.argmax(by_tool, axis=1)], -1)
+    free = (tool_group[None] < 0) | (tool_group[None] == labels[moving][:, None])
+    gaps = np.linalg.norm(com[moving][:, None, :] - tools[None], axis=-1)
+    nearest = np.min(np.where(free, gaps, np.inf), axis=1)
     reach = np.maximum(held, np.exp(-nearest / REACH_SCALE))
     lift = held * np.clip((com[moving, 2] - self._start_height[moving]) / LIFT_HEIGHT, 0.0, 1.0)
     distance = held * np.exp(-scores.distance[pairs] / DISTANCE_SCALE)

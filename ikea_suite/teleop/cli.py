@@ -22,23 +22,17 @@ def run_viewer(session: session_lib.TeleopSession, env, realtime: bool = True) -
   """Runs `session` in the passive viewer until the window closes."""
   import mujoco.viewer   # needs a display; imported only here
 
-  def launch():
-    physics = env.physics
-    return mujoco.viewer.launch_passive(physics.model.ptr, physics.data.ptr,
+  physics = env.physics
+  # Reset never recompiles (ikea_suite.environment), so one window serves every episode.
+  viewer = mujoco.viewer.launch_passive(physics.model.ptr, physics.data.ptr,
                                         key_callback=session.on_key)
-  viewer = launch()
   dt = env.control_timestep()
   try:
     while viewer.is_running():
       start = time.perf_counter()
       with viewer.lock():
-        event = session.step()
-      if event:
-        # Reset may recompile and free the model the viewer draws: close it first.
-        viewer.close()
-        session.next_episode()
-        viewer = launch()
-        continue
+        if session.step():
+          session.next_episode()
       viewer.sync()
       if realtime:
         time.sleep(max(0.0, dt - (time.perf_counter() - start)))

@@ -5,8 +5,7 @@ The viewer thread only queues key codes (`on_key`); the main loop calls
 environment with the keyboard's action and records the step. ENTER keeps
 the episode, BACKSPACE drops it, an episode that ends by itself is kept.
 The next episode (seed + 1) starts with `next_episode()` or the next
-`step()`: a viewer must let go of the old model first, because reset may
-recompile it and free the old one. `write(path)` saves the kept episodes in
+`step()`, on the same compiled model (reset never recompiles). `write(path)` saves the kept episodes in
 the demonstration format of `ikea_suite.datasets.hdf5`.
 """
 
