@@ -26,10 +26,11 @@ OPTION = {
     "noslip_iterations": 0,
 }
 
-# MuJoCo's arena holds contacts and constraints; a full pile of parts under a
-# robot makes up to a few thousand contacts. 64 MB leaves a wide margin (the
-# random-action soak in tests/test_physics_settings.py checks for overflows).
-ARENA_MEMORY = "64M"
+# MuJoCo's arena holds contacts and constraints. A random-action soak of all
+# 645 furniture x robot pairs (benchmarks/soak.py) used at most 3.6 MB and
+# 1,735 contacts; 32 MB leaves a ninefold margin (MuJoCo sizes it by model
+# otherwise, and a pile of parts once overflowed that).
+ARENA_MEMORY = "32M"
 
 # Welds between connected parts. The time constant is twice the timestep, the
 # stiffest MuJoCo integrates stably, and solimp near 1 makes the weld nearly
