@@ -125,3 +125,19 @@ def test_a_diverging_simulation_ends_the_episode_with_a_reason(caplog):
   assert "BADQVEL" in env.termination_reason or "BADQACC" in env.termination_reason
   assert "episode ended" in caplog.text
   assert env.reset().first() and env.termination_reason is None
+
+
+@pytest.mark.parametrize("furniture,robot", [("bookcase_shelf_unit_w80_h106_birch", "cursor"),
+                                             ("chair_back_ivar", "sawyer")])
+def test_a_random_action_soak_raises_no_mujoco_warning(furniture, robot):
+  env = ikea_suite.load(furniture, robot, seed=5)
+  spec = env.action_spec()
+  rng = np.random.default_rng(5)
+  env.reset()
+  for _ in range(60):
+    timestep = env.step(rng.uniform(spec.minimum, spec.maximum, size=spec.shape))
+    assert env.termination_reason in (None, "complete"), env.termination_reason
+    if timestep.last():
+      break
+  assert not any(w.number for w in env.physics.data.warning)
+  assert env.physics.data.maxuse_arena < env.physics.model.narena / 4
