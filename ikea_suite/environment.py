@@ -44,6 +44,7 @@ class Environment(composer.Environment):
     self._action_names = list(task.action_names)
     self._checked_spec = None
     self._termination_reason = None
+    self._trivial_substeps = None
 
   @property
   def termination_reason(self):
@@ -66,10 +67,16 @@ class Environment(composer.Environment):
       self._checked_spec = super().action_spec()
     return self._checked_spec
 
+  def _recompile_physics_and_update_observables(self):
+    super()._recompile_physics_and_update_observables()
+    self._trivial_substeps = None   # hooks are refreshed only here
+
   def _substep_hooks_trivial(self):
-    return not any(getattr(self._hooks, "_" + name).entity_hooks
-                   or getattr(self._hooks, "_" + name).extra_hooks
-                   for name in ("before_substep", "after_substep"))
+    if self._trivial_substeps is None:
+      self._trivial_substeps = not any(getattr(self._hooks, "_" + name).entity_hooks
+                                       or getattr(self._hooks, "_" + name).extra_hooks
+                                       for name in ("before_substep", "after_substep"))
+    return self._trivial_substeps
 
   def _advance_updater(self, substeps):
     """Runs the observation updater over intermediate substeps.
