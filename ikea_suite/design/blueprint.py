@@ -23,6 +23,7 @@ class Geom:
   mesh: str = ""                 # asset name when type == "mesh"
   collide: bool = True           # False: a visual-only geom
   visible: bool = True           # False: a collision-only geom, hidden (group 3)
+  density: float | None = None   # kg/m^3; None: the density of `material`
 
 
 @dataclasses.dataclass
@@ -57,6 +58,7 @@ class Blueprint:
   description: str
   parts: list = dataclasses.field(default_factory=list)
   meshes: dict = dataclasses.field(default_factory=dict)   # asset name -> trimesh.Trimesh
+  metadata: dict = dataclasses.field(default_factory=dict)  # extra key -> value, file metadata
 
   def add_part(self, name, pos, rot=None, geoms=()):
     part = Part(name=name, pos=np.asarray(pos, float),

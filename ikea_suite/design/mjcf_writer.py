@@ -22,10 +22,16 @@ def _quat(rot):
   return _fmt(geometry.mat_to_quat(rot))
 
 
+def _density(geom):
+  if geom.density is not None:
+    return geom.density
+  return materials.DENSITY.get(geom.material, materials.DEFAULT_DENSITY)
+
+
 def _add_geom(body, part, index, geom):
   attrs = {"name": f"{part.name}_geom{index}", "type": geom.type, "material": geom.material,
            "pos": _fmt(geom.pos), "quat": _quat(geom.rot),
-           "density": f"{materials.DENSITY.get(geom.material, materials.DEFAULT_DENSITY):g}"}
+           "density": f"{_density(geom):g}"}
   if geom.type == "mesh":
     attrs["mesh"] = geom.mesh
   else:
@@ -56,7 +62,8 @@ def blueprint_to_xml(blueprint, mesh_files=None):
   ET.SubElement(root, "compiler", angle="radian", meshdir=MESH_DIR)
   custom = ET.SubElement(root, "custom")
   meta = (f"category={blueprint.category}; family={blueprint.family}; "
-          f"variant={blueprint.variant}; description={blueprint.description}")
+          f"variant={blueprint.variant}; description={blueprint.description}"
+          + "".join(f"; {key}={value}" for key, value in blueprint.metadata.items()))
   ET.SubElement(custom, "text", name=model_format.FURNITURE_TEXT, data=meta)
   asset = ET.SubElement(root, "asset")
   for name, (rgba, specular, shininess) in materials.MATERIALS.items():

@@ -1,0 +1,174 @@
+"""The converter from the original IKEA environment's format, on models the tests write themselves."""
+
+import mujoco
+import numpy as np
+import pytest
+
+import ikea_suite
+from ikea_suite import errors
+from ikea_suite.design import decompose
+from ikea_suite.design.original import assemble
+from ikea_suite.design.original import cli
+from ikea_suite.design.original import convert
+from ikea_suite.design.original import names
+from ikea_suite.design.original import reader
+from ikea_suite.props import layout
+from ikea_suite.props import model_format
+from tests import original_models
+
+
+@pytest.fixture(autouse=True)
+def coacd_cache(tmp_path, monkeypatch):
+  monkeypatch.setenv(decompose.CACHE_ENV, str(tmp_path / "coacd"))
+
+
+def test_site_names_give_groups_twists_and_tag():
+  parsed = names.parse("leg-table,0,90,180,270,conn_site1", "f.xml")
+  assert (parsed.type, parsed.mate_type, parsed.tag) == ("leg-table", "table-leg", "1")
+  assert parsed.twists_deg == (0.0, 90.0, 180.0, 270.0)
+  assert names.parse("0-1,conn_site", "f.xml").twists_deg == ()   # any twist
+  assert names.parse("a-b,-90,450,conn_site2", "f.xml").twists_deg == (90.0, 270.0)
+  assert names.is_connector("a-b,conn_site2") and not names.is_connector("top_bottom_site")
+
+
+@pytest.mark.parametrize("bad, why", [
+    ("legtable,0,conn_site1", "two connector groups"),
+    ("leg-table-x,conn_site1", "two connector groups"),
+    ("leg-table,ninety,conn_site1", "'ninety' is not an angle"),
+    ("conn_site1", "last comma-separated field"),
+])
+def test_malformed_site_names_are_named_in_the_error(bad, why):
+  with pytest.raises(errors.ConversionError, match=why) as info:
+    names.parse(bad, "f.xml")
+  assert bad in str(info.value)
+
+
+def test_the_originals_forward_y_becomes_our_forward_x(tmp_path):
+  model = reader.read(original_models.table(tmp_path))
+  solved = assemble.solve(model)
+  top = next(b for b in model.bodies if b.name == "top")
+  site = next(s for s in top.sites if s.name.endswith("conn_site1"))
+  ours = next(c for c in solved.connectors if c.site == site.name)
+  np.testing.assert_allclose(ours.rot[:, 0], site.rot[:, 1], atol=1e-12)   # forward
+  np.testing.assert_allclose(ours.rot[:, 2], site.rot[:, 2], atol=1e-12)   # up
+  np.testing.assert_allclose(ours.rot[:, 0], [0, -1, 0], atol=1e-12)
+
+
+def _poses(path):
+  spec = model_format.load_spec(str(path))
+  return {p.name: (p.pos, p.rot) for p in spec.parts}
+
+
+def test_a_file_whose_poses_are_not_assembled_is_solved_from_its_connectors(tmp_path):
+  assembled = convert.convert(original_models.table(tmp_path / "a"), tmp_path / "out_a")
+  moved = convert.convert(original_models.table(tmp_path / "b", assembled=False), tmp_path / "out_b")
+  reference, solved = _poses(assembled.path), _poses(moved.path)
+  np.testing.assert_allclose(reference["top"][0], [0, 0, original_models.TOP_Z], atol=1e-6)
+  corners = sorted(tuple(np.round(solved[f"leg{i}"][0], 6)) for i in range(4))
+  expected = sorted((x, y, original_models.LEG_HALF) for x, y in original_models.CORNERS)
+  np.testing.assert_allclose(corners, expected, atol=1e-6)
+  for name, (pos, rot) in solved.items():   # every part upright, as assembled
+    np.testing.assert_allclose(rot[:, 2], [0, 0, 1], atol=1e-6, err_msg=name)
+  assert len(moved.pairs) == 4 and moved.num_connectors == 8
+
+
+def test_quirks_are_repaired_and_reported(tmp_path):
+  result = convert.convert(original_models.table(tmp_path, quirks=True, assembled=False),
+                           tmp_path / "out")
+  notes = "\n".join(result.notes)
+  assert "<body name='top'>: normalised quat (its length was 2)" in notes
+  assert "normalised quat" in notes and "conn_site0'>" in notes
+  assert "rgba='0.9,0.9,0.9,1' written with commas" in notes
+  assert "dropped duplicate weld between 'top' and 'leg0'" in notes
+  assert "dropped dead weld between 'leg0' and 'leg1'" in notes
+  assert "site 'leg-shelf,conn_site9' on part 'leg3' has no partner" in notes
+  assert result.num_parts == 5 and len(result.pairs) == 4
+  assert model_format.load_spec(str(result.path))   # a valid model in our format
+
+
+def test_a_disconnected_graph_is_rejected_naming_the_parts_and_the_site(tmp_path):
+  with pytest.raises(errors.ConversionError,
+                     match=r"parts \['c'\] cannot be reached from root part 'a'.*"
+                           r"'c-d,0,180,conn_site1' on part 'c' has no partner: "
+                           r"no site of type 'd-c'"):
+    convert.convert(original_models.disconnected(tmp_path), tmp_path / "out")
+  assert not (tmp_path / "out" / "shelf_broken.xml").exists()
+
+
+def _masses(path):
+  model = mujoco.MjModel.from_xml_path(str(path))
+  return {model.body(i).name: model.body_mass[i] for i in range(1, model.nbody)}
+
+
+def test_masses_come_from_the_original_or_from_our_material_table(tmp_path):
+  source = original_models.table(tmp_path)
+  kept = _masses(convert.convert(source, tmp_path / "kept").path)
+  assert kept["top"] == pytest.approx(0.6 * 0.6 * 0.04 * 100)       # density 100 in the file
+  assert kept["leg0"] == pytest.approx(0.04 * 0.04 * 0.4 * 500)
+  birch = _masses(convert.convert(source, tmp_path / "birch", material="birch").path)
+  density = convert.material_density("birch")
+  assert birch["top"] == pytest.approx(0.6 * 0.6 * 0.04 * density)
+  with pytest.raises(errors.OptionValueError, match="'oak'"):
+    convert.convert(source, tmp_path / "x", material="oak")
+
+
+def test_mesh_collision_parts_collide_through_their_mesh_or_coacd_pieces(tmp_path):
+  result = convert.convert(original_models.stool_with_mesh_collision(tmp_path), tmp_path / "out")
+  model = mujoco.MjModel.from_xml_path(str(result.path))
+  colliding = {}
+  for g in range(model.ngeom):
+    if model.geom_bodyid[g] and model.geom_contype[g]:
+      colliding.setdefault(model.body(model.geom_bodyid[g]).name, []).append(model.geom_type[g])
+  assert colliding["seat"] == [mujoco.mjtGeom.mjGEOM_MESH]           # convex: itself
+  assert len(colliding["leg0"]) >= 2                                 # concave: coacd pieces
+  assert any("decomposed into" in n for n in result.notes)
+  masses = _masses(result.path)
+  assert masses["seat"] == pytest.approx(0.4 * 0.3 * 0.03 * 500, rel=1e-3)
+  assert masses["leg0"] == pytest.approx(600 * 0.04 * (0.3 * 0.04 + 0.04 * 0.36), rel=1e-3)
+
+
+def test_the_initial_layout_is_kept_and_can_be_applied(tmp_path):
+  result = convert.convert(original_models.table(tmp_path, quirks=True), tmp_path / "out")
+  spec = model_format.load_spec(str(result.path))
+  kept = layout.initial_layout(spec)
+  assert sorted(kept) == ["leg0", "top"]
+  np.testing.assert_allclose(kept["leg0"][1], np.array([1, 1, 0, 0]) / np.sqrt(2), atol=1e-5)
+  env = ikea_suite.load(result.path, "cursor", seed=0)
+  env.reset()
+  with env.physics.reset_context():
+    assert layout.apply_initial_layout(env.physics, env.task.furniture) == ["top", "leg0"]
+  top = env.task.furniture.body_ids[spec.part_index("top")]
+  np.testing.assert_allclose(env.physics.data.xpos[top], [0.6, 0.3, 0.02], atol=1e-9)
+
+
+def test_the_command_converts_validates_assembles_and_tabulates(tmp_path, capsys):
+  src = tmp_path / "src"
+  original_models.table(src, name="table_side")
+  original_models.table(src, name="table_moved", assembled=False, quirks=True)
+  original_models.stool_with_mesh_collision(src)
+  original_models.disconnected(src)
+  out = tmp_path / "converted"
+  assert cli.main([str(src), "--out", str(out)]) == 1   # one model cannot be converted
+  text = capsys.readouterr().out
+  rows = {line.split("|")[0].strip(): [c.strip() for c in line.split("|")[1:]]
+          for line in text.splitlines() if "|" in line}
+  assert rows["model"] == ["parts", "connectors", "mated pairs", "validation", "oracle"]
+  for name, parts, connectors, pairs in (("table_side", 5, 8, 4), ("table_moved", 5, 8, 4),
+                                         ("stool_mesh", 3, 4, 2)):
+    assert rows[name][:4] == [str(parts), str(connectors), str(pairs), "ok"], rows[name]
+    assert rows[name][4].startswith("ok, "), rows[name]
+  assert rows["shelf_broken"][3] == "not converted"
+  assert "shelf_broken: NOT CONVERTED" in text and "parts ['c'] cannot be reached" in text
+  assert "table_moved: repaired" in text and "dropped duplicate weld" in text
+  assert "3/4 models converted, validated and assembled" in text
+  try:
+    assert ikea_suite.register_models(out) == ["stool_mesh", "table_moved", "table_side"]
+    assert "table_moved" in ikea_suite.furniture_names()
+    assert ikea_suite.load("stool_mesh", "cursor", seed=0).task.furniture.name == "stool_mesh"
+  finally:
+    ikea_suite.unregister_models(out)
+
+
+def test_the_command_rejects_a_missing_source(tmp_path, capsys):
+  assert cli.main([str(tmp_path / "nowhere.xml"), "--out", str(tmp_path / "out")]) == 2
+  assert "nowhere.xml: <file>: no such file or folder" in capsys.readouterr().err
