@@ -159,7 +159,7 @@ def test_the_command_converts_validates_assembles_and_tabulates(tmp_path, capsys
     assert rows[name][4].startswith("ok, "), rows[name]
   assert rows["shelf_broken"][3] == "not converted"
   assert "shelf_broken: NOT CONVERTED" in text and "parts ['c'] cannot be reached" in text
-  assert "table_moved: repaired" in text and "dropped duplicate weld" in text
+  assert "table_moved: 6 repairs and notes" in text and "dropped duplicate weld" in text
   assert "3/4 models converted, validated and assembled" in text
   try:
     assert ikea_suite.register_models(out) == ["stool_mesh", "table_moved", "table_side"]

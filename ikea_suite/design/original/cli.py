@@ -117,7 +117,7 @@ def details(rows):
     if r.error:
       lines.append(f"{r.model}: NOT CONVERTED ({r.source}): {r.error}")
     elif r.notes:
-      lines.append(f"{r.model}: repaired")
+      lines.append(f"{r.model}: {len(r.notes)} repairs and notes")
       lines += [f"  - {n}" for n in r.notes]
   return "\n".join(lines)
 
