@@ -151,3 +151,30 @@ def stool_with_mesh_collision(directory, name="stool_mesh"):
 </mujoco>
 """)
   return path
+
+
+def two_boards(directory, twists_a="", twists_b="", yaw_b=0.0, name="boards"):
+  """A board with a second board standing on it, joined by one site pair at the top's centre.
+
+  Args:
+    twists_a, twists_b: the angle fields of the two site names, e.g. ',90' (empty: any twist).
+    yaw_b: degrees the upper board is turned about z in the file.
+  """
+  half = np.radians(yaw_b) / 2
+  quat = f"{np.cos(half):.9f} 0 0 {np.sin(half):.9f}"
+  path = pathlib.Path(directory) / f"{name}.xml"
+  path.parent.mkdir(parents=True, exist_ok=True)
+  path.write_text(f"""<mujoco model="{name}">
+  <worldbody>
+    <body name="lower" pos="0 0 0.02">
+      <geom name="noviz_collision_lower_0" type="box" size="0.3 0.2 0.02" density="500"/>
+      <site name="lower-upper{twists_a},conn_site1" pos="0 0 0.02" size="0.01"/>
+    </body>
+    <body name="upper" pos="0 0 0.07" quat="{quat}">
+      <geom name="noviz_collision_upper_0" type="box" size="0.1 0.05 0.03" density="500"/>
+      <site name="upper-lower{twists_b},conn_site1" pos="0 0 -0.03" size="0.01"/>
+    </body>
+  </worldbody>
+</mujoco>
+""")
+  return path

@@ -67,8 +67,12 @@ def test_a_file_whose_poses_are_not_assembled_is_solved_from_its_connectors(tmp_
   corners = sorted(tuple(np.round(solved[f"leg{i}"][0], 6)) for i in range(4))
   expected = sorted((x, y, original_models.LEG_HALF) for x, y in original_models.CORNERS)
   np.testing.assert_allclose(corners, expected, atol=1e-6)
-  for name, (pos, rot) in solved.items():   # every part upright, as assembled
+  for name, (pos, rot) in solved.items():   # upright, turned a whole number of quarter turns
     np.testing.assert_allclose(rot[:, 2], [0, 0, 1], atol=1e-6, err_msg=name)
+    yaw = np.degrees(np.arctan2(rot[1, 0], rot[0, 0]))
+    assert abs(yaw / 90 - round(yaw / 90)) < 1e-6, (name, yaw)
+  for i in (0, 1, 3):   # turned 10 degrees in the file: back to the nearest allowed twist
+    np.testing.assert_allclose(solved[f"leg{i}"][1], np.eye(3), atol=1e-6)
   assert len(moved.pairs) == 4 and moved.num_connectors == 8
 
 
@@ -172,3 +176,27 @@ def test_the_command_converts_validates_assembles_and_tabulates(tmp_path, capsys
 def test_the_command_rejects_a_missing_source(tmp_path, capsys):
   assert cli.main([str(tmp_path / "nowhere.xml"), "--out", str(tmp_path / "out")]) == 2
   assert "nowhere.xml: <file>: no such file or folder" in capsys.readouterr().err
+
+
+def _upper_yaw(path):
+  solved = assemble.solve(reader.read(path))
+  rot = solved.poses["upper"][1]
+  return np.degrees(np.arctan2(rot[1, 0], rot[0, 0])) % 360, solved
+
+
+@pytest.mark.parametrize("twists, yaw_in_file, expected", [
+    (",0,90,180,270", 80.0, 90.0),     # the allowed twist nearest the file's orientation
+    (",0,180", 80.0, 0.0),
+    ("", 37.0, 37.0),                  # any twist: the file's own
+])
+def test_the_twist_nearest_the_files_orientation_is_chosen(tmp_path, twists, yaw_in_file, expected):
+  yaw, solved = _upper_yaw(original_models.two_boards(tmp_path, twists, twists, yaw_in_file))
+  assert yaw == pytest.approx(expected, abs=1e-6)
+  np.testing.assert_allclose(solved.poses["upper"][0], [0, 0, 0.07], atol=1e-9)
+
+
+def test_twists_of_mates_are_unified_and_made_symmetric(tmp_path):
+  yaw, solved = _upper_yaw(original_models.two_boards(tmp_path, ",90", ",0,90", yaw_b=265.0))
+  assert {c.twists_deg for c in solved.connectors} == {(0.0, 90.0, 270.0)}
+  assert any("unified to [0.0, 90.0, 270.0]" in n for n in solved.notes)
+  assert yaw == pytest.approx(270.0)
