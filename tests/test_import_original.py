@@ -200,3 +200,42 @@ def test_twists_of_mates_are_unified_and_made_symmetric(tmp_path):
   assert {c.twists_deg for c in solved.connectors} == {(0.0, 90.0, 270.0)}
   assert any("unified to [0.0, 90.0, 270.0]" in n for n in solved.notes)
   assert yaw == pytest.approx(270.0)
+
+
+_PART = '<body name="{name}" pos="0 0 0.02">{body}</body>'
+_BOX = '<geom name="noviz_collision_{name}_0" type="box" size="0.1 0.1 0.02"/>'
+_SITE = '<site name="{site}" pos="0 0 0.02"/>'
+
+
+@pytest.mark.parametrize("a_body, asset, why", [
+    (_BOX.format(name="a") + '<body name="x"/>', "", "<body name='a'>: nested bodies"),
+    ('<geom type="mesh" mesh="m"/>', '<mesh name="m" file="gone.stl"/>',
+     "<mesh name='m'>: no mesh file"),
+    ('<geom type="box" size="0.1 0.1 0.02" contype="0" conaffinity="0"/>', "",
+     "<body name='a'>: part has no collision geometry"),
+    (_BOX.format(name="a") + '<geom type="plane" size="1 1 1"/>', "", "type 'plane' is not supported"),
+    ('<geom type="box" size="0.1 0.1 0.02" xyaxes="1 0 0 0 1 0"/>', "", "written as xyaxes"),
+    (_BOX.format(name="a") + '<geom type="box" size="0.1 0.1 0.02" quat="0 0 0 0"/>', "",
+     "has zero length"),
+])
+def test_unconvertible_parts_are_named_with_the_reason(tmp_path, a_body, asset, why):
+  a = _PART.format(name="a", body=a_body + _SITE.format(site="a-b,conn_site1"))
+  b = _PART.format(name="b", body=_BOX.format(name="b") + _SITE.format(site="b-a,conn_site1"))
+  path = tmp_path / "bad.xml"
+  path.write_text(f"<mujoco><asset>{asset}</asset><worldbody>{a}{b}</worldbody></mujoco>")
+  with pytest.raises(errors.ConversionError, match=why.replace("(", r"\(")):
+    convert.convert(path, tmp_path / "out")
+
+
+@pytest.mark.parametrize("entry, why", [
+    ("initpos.nobody=0 0 0 1 0 0 0", "names part 'nobody'"),
+    ("initpos.top=0 0 0 1", "must be 7 numbers"),
+    ("initpos.top=0 0 0 2 0 0 0", "is not unit length"),
+])
+def test_a_bad_initial_layout_entry_is_a_format_error(tmp_path, entry, why):
+  result = convert.convert(original_models.table(tmp_path), tmp_path / "out")
+  text = result.path.read_text().replace("; source=", f"; {entry}; source=")
+  result.path.write_text(text)
+  spec = model_format.load_spec(str(result.path))
+  with pytest.raises(errors.ModelFormatError, match=why):
+    layout.initial_layout(spec)

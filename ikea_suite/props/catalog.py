@@ -86,7 +86,7 @@ def entries():
   return _scan()[0]
 
 
-def invalid_models():
+def invalid_models() -> list[InvalidModel]:
   """Model files left out of the catalog, each with its ModelFormatError and reason.
 
   Returns:
@@ -95,7 +95,7 @@ def invalid_models():
   return list(_scan()[1])
 
 
-def register_models(directory):
+def register_models(directory: str | os.PathLike) -> list[str]:
   """Adds every model file (*.xml) of `directory` to the catalog, for names and load().
 
   Args:
@@ -117,15 +117,19 @@ def register_models(directory):
   return sorted(name for name, e in entries().items() if pathlib.Path(e.path).parent == directory)
 
 
-def unregister_models(directory):
-  """Removes a directory added by register_models (no effect if it was never added)."""
+def unregister_models(directory: str | os.PathLike) -> None:
+  """Removes a directory added by register_models (no effect if it was never added).
+
+  Args:
+    directory: the folder given to register_models.
+  """
   directory = pathlib.Path(directory).expanduser().resolve()
   if directory in _registered:
     _registered.remove(directory)
     _scan.cache_clear()
 
 
-def registered_directories():
+def registered_directories() -> list[pathlib.Path]:
   """The user directories added by register_models, in order."""
   return list(_registered)
 
@@ -177,7 +181,7 @@ def _looks_like_path(name):
       isinstance(name, str) and (name.endswith(".xml") or os.sep in name))
 
 
-def path_of(name):
+def path_of(name: str | os.PathLike) -> str:
   """The model file of a catalog name, or `name` itself when it is a path to a model file.
 
   Args:

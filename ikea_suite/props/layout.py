@@ -16,11 +16,13 @@ applies it after reset:
 import numpy as np
 
 from ikea_suite import errors
+from ikea_suite.props import furniture_spec
 
 PREFIX = "initpos."
 
 
-def initial_layout(spec):
+def initial_layout(
+    spec: furniture_spec.FurnitureSpec) -> dict[str, tuple[np.ndarray, np.ndarray]]:
   """The layout in a model's metadata.
 
   Args:
@@ -40,20 +42,23 @@ def initial_layout(spec):
     label = f"<text name='furniture'> {key}"
     part = key[len(PREFIX):]
     if part not in parts:
-      raise errors.ModelFormatError(spec.path, label, f"names part {part!r}; parts are {sorted(parts)}")
+      raise errors.ModelFormatError(spec.path, label,
+                                    f"names part {part!r}; parts are {sorted(parts)}")
     try:
       numbers = np.array([float(v) for v in value.split()])
     except ValueError:
       numbers = np.array([])
     if numbers.shape != (7,) or not np.all(np.isfinite(numbers)):
-      raise errors.ModelFormatError(spec.path, label, f"{value!r} must be 7 numbers: x y z qw qx qy qz")
+      raise errors.ModelFormatError(spec.path, label,
+                                    f"{value!r} must be 7 numbers: x y z qw qx qy qz")
     if abs(np.linalg.norm(numbers[3:]) - 1.0) > 1e-4:
-      raise errors.ModelFormatError(spec.path, label, f"quaternion {numbers[3:].tolist()} is not unit length")
+      raise errors.ModelFormatError(spec.path, label,
+                                    f"quaternion {numbers[3:].tolist()} is not unit length")
     out[part] = (numbers[:3], numbers[3:])
   return out
 
 
-def apply_initial_layout(physics, furniture):
+def apply_initial_layout(physics, furniture) -> list[str]:
   """Puts every part that the layout names at its pose, at rest.
 
   Args:

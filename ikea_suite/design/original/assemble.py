@@ -32,6 +32,7 @@ import numpy as np
 from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.design.original import names
+from ikea_suite.design.original import reader
 
 # The original's site frame has +y forward; ours +x. Both have +z up.
 Y_FORWARD_TO_X = geometry.rot_z(np.pi / 2)
@@ -71,7 +72,8 @@ def _connectors(model):
         out.append(Connector(site.name, body.name, parsed.type, parsed.mate_type,
                              parsed.twists_deg, site.pos, site.rot @ Y_FORWARD_TO_X))
   if not out:
-    raise errors.ConversionError(model.path, "<worldbody>", "no connector sites (names with 'conn_site')")
+    raise errors.ConversionError(model.path, "<worldbody>",
+                                 "no connector sites (names with 'conn_site')")
   return out
 
 
@@ -163,12 +165,13 @@ def _weld_notes(model, mated_bodies):
     elif a not in bodies or b not in bodies:
       notes.append(f"dropped weld between {a!r} and {b!r}: no such part body")
     elif key not in mated_bodies:
-      notes.append(f"dropped dead weld between {a!r} and {b!r}: the parts share no mated connectors")
+      notes.append(f"dropped dead weld between {a!r} and {b!r}: "
+                   "the parts share no mated connectors")
     seen.add(key)
   return notes
 
 
-def solve(model):
+def solve(model: reader.OriginalModel) -> Assembly:
   """Matches connectors and solves the assembled pose of an original model.
 
   Args:

@@ -51,8 +51,14 @@ class Row:
     return (self.model, self.parts, self.connectors, self.pairs, self.validation, self.oracle)
 
 
-def sources(paths):
+def sources(paths: list[str]) -> list[pathlib.Path]:
   """The XML files named by `paths` (a folder stands for its *.xml files), in order.
+
+  Args:
+    paths: files and folders as given on the command line.
+
+  Returns:
+    The XML files, each folder's sorted by name.
 
   Raises:
     ConversionError: a path that is neither an XML file nor a folder holding one.
@@ -71,20 +77,40 @@ def sources(paths):
   return files
 
 
-def oracle_result(path, seed):
-  """'ok, N steps' when the Cursor oracle assembles the model, else what went wrong."""
+def oracle_result(path: pathlib.Path, seed: int) -> str:
+  """One Cursor oracle episode on a model file.
+
+  Args:
+    path: the converted model file.
+    seed: the episode's seed.
+
+  Returns:
+    'ok, N steps' when the oracle assembles it, else what went wrong.
+  """
   try:
     env = ikea_suite.load(str(path), "cursor", seed=seed)
     summary = rollout.run_episode(env, cursor_oracle.CursorOracle(env))
-  except (ikea_suite.IkeaSuiteError, ValueError) as e:   # sequencing reports a stuck part as ValueError
+  except (ikea_suite.IkeaSuiteError, ValueError) as e:   # sequencing: a stuck part is a ValueError
     return f"error: {e}"
   if summary["success"]:
     return f"ok, {summary['steps']} steps"
   return f"FAIL, {summary['connections']}/{summary['needed']} connections"
 
 
-def process(source, out, material, category, seed, run_oracle=True):
-  """Converts, validates and (optionally) assembles one model; returns its Row."""
+def process(source: pathlib.Path, out: str, material: str | None, category: str, seed: int,
+            run_oracle: bool = True) -> Row:
+  """Converts, validates and (optionally) assembles one model.
+
+  Args:
+    source: the original-format XML file.
+    out: the output folder.
+    material, category: as for convert.convert.
+    seed: the oracle episode's seed.
+    run_oracle: False to skip the oracle.
+
+  Returns:
+    The model's Row: counts, validation and oracle results, repairs, or why it failed.
+  """
   row = Row(str(source))
   try:
     result = convert.convert(source, out, material=material, category=category)
@@ -93,14 +119,15 @@ def process(source, out, material, category, seed, run_oracle=True):
     row.validation = row.oracle = "not converted"
     return row
   row.model, row.parts = result.name, str(result.num_parts)
-  row.connectors, row.pairs, row.notes = str(result.num_connectors), str(len(result.pairs)), result.notes
+  row.connectors, row.pairs = str(result.num_connectors), str(len(result.pairs))
+  row.notes = result.notes
   report = validate.check(result.path)
   row.validation = "ok" if report.ok else "FAIL: " + "; ".join(report.problems)
   row.oracle = oracle_result(result.path, seed) if run_oracle else "skipped"
   return row
 
 
-def table(rows):
+def table(rows: list[Row]) -> str:
   """The rows as an aligned text table with COLUMNS as its header."""
   cells = [COLUMNS] + [r.cells() for r in rows]
   widths = [max(len(c[i]) for c in cells) for i in range(len(COLUMNS))]
@@ -110,7 +137,7 @@ def table(rows):
   return "\n".join(lines)
 
 
-def details(rows):
+def details(rows: list[Row]) -> str:
   """Repairs of each converted model and the reason for each one that was not converted."""
   lines = []
   for r in rows:
@@ -122,7 +149,7 @@ def details(rows):
   return "\n".join(lines)
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> int:
   parser = argparse.ArgumentParser(description=__doc__,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
   parser.add_argument("src", nargs="+", help="original-format XML files or folders of them")

@@ -52,12 +52,12 @@ class Converted:
   notes: list             # every repair, in reading then solving order
 
 
-def material_names():
+def material_names() -> list[str]:
   """Valid values of `material`: our visual materials and every material with a density."""
   return sorted(set(materials.MATERIALS) | set(materials.DENSITY))
 
 
-def material_density(material):
+def material_density(material: str) -> float:
   """kg/m^3 of a material in our material table (the one call into it)."""
   return materials.DENSITY.get(material, materials.DEFAULT_DENSITY)
 
@@ -109,9 +109,11 @@ class _Converter:
       return self.mesh_cache[name]
     asset = self.model.meshes.get(name)
     if asset is None:
-      raise errors.ConversionError(self.model.path, label, f"uses mesh {name!r}, which no <mesh> declares")
+      raise errors.ConversionError(self.model.path, label,
+                                   f"uses mesh {name!r}, which no <mesh> declares")
     if not asset.file.is_file():
-      raise errors.ConversionError(self.model.path, f"<mesh name={name!r}>", f"no mesh file {str(asset.file)!r}")
+      raise errors.ConversionError(self.model.path, f"<mesh name={name!r}>",
+                                   f"no mesh file {str(asset.file)!r}")
     try:
       mesh = trimesh.load(str(asset.file), force="mesh")
     except Exception as e:   # trimesh raises many kinds on a corrupt file
@@ -178,8 +180,9 @@ class _Converter:
         out.append((piece, base, abs(furniture.meshes[piece.mesh].volume),
                     vertices @ g.rot.T + g.pos))
     if not any(base is not None for _, base, _, _ in out):
-      raise errors.ConversionError(self.model.path, f"<body name={body.name!r}>",
-                                   "part has no collision geometry (no colliding primitive or mesh)")
+      raise errors.ConversionError(
+          self.model.path, f"<body name={body.name!r}>",
+          "part has no collision geometry (no colliding primitive or mesh)")
     return out
 
   def set_densities(self, part_name, body, geoms):
@@ -210,8 +213,9 @@ def _unique(mapping, path, kind):
   seen = {}
   for original, safe in mapping.items():
     if safe in seen:
-      raise errors.ConversionError(path, f"<{kind} name={original!r}>",
-                                   f"its safe name {safe!r} is also that of {seen[safe]!r}; rename one")
+      raise errors.ConversionError(
+          path, f"<{kind} name={original!r}>",
+          f"its safe name {safe!r} is also that of {seen[safe]!r}; rename one")
     seen[safe] = original
   return mapping
 
@@ -220,7 +224,8 @@ def _fmt(values):
   return " ".join(f"{v:.6g}" for v in values)
 
 
-def convert(source, out_dir, material=None, category=DEFAULT_CATEGORY):
+def convert(source: str | pathlib.Path, out_dir: str | pathlib.Path, material: str | None = None,
+            category: str = DEFAULT_CATEGORY) -> Converted:
   """Converts one original-format model file into our format under `out_dir`.
 
   Args:

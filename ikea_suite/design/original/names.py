@@ -9,6 +9,7 @@ twist; the tag only keeps names unique.
 
 import dataclasses
 import math
+import pathlib
 import re
 
 from ikea_suite import errors
@@ -36,12 +37,12 @@ class SiteName:
     return f"{self.mates}-{self.group}"
 
 
-def is_connector(name):
+def is_connector(name: str | None) -> bool:
   """True for a connector site name (it contains `conn_site`)."""
   return CONN_MARK in (name or "")
 
 
-def parse(name, path):
+def parse(name: str, path: str | pathlib.Path) -> SiteName:
   """Splits a connector site name into groups, twists and tag.
 
   Args:
@@ -78,6 +79,6 @@ def parse(name, path):
   return SiteName(groups[0], groups[1], tuple(sorted(twists)), tag)
 
 
-def safe(name):
+def safe(name: str) -> str:
   """`name` with every run of characters other than letters, digits, '_' and '-' made '_'."""
   return _UNSAFE.sub("_", name).strip("_") or "unnamed"

@@ -31,6 +31,7 @@ from ikea_suite.design import blueprint
 
 _UNIT_TOL = 1e-4
 _PRIMITIVES = ("box", "cylinder", "sphere", "capsule", "ellipsoid")
+_HIDDEN_GROUPS = ("3", "4", "5")   # MuJoCo's viewer draws geom groups 0 to 2 by default
 _GEOM_DEFAULTS = {"type": "sphere", "contype": "1", "conaffinity": "1", "density": "1000",
                   "rgba": "0.5 0.5 0.5 1", "group": "0"}
 
@@ -107,7 +108,8 @@ class _Reader:
     except ValueError:
       raise self.error(label, f"{attr}={text!r} must be numbers") from None
     if len(values) not in counts or not np.all(np.isfinite(values)):
-      raise self.error(label, f"{attr}={text!r} must be {' or '.join(map(str, counts))} finite numbers")
+      expected = " or ".join(map(str, counts))
+      raise self.error(label, f"{attr}={text!r} must be {expected} finite numbers")
     if cleaned.split() != text.split():
       self.repairs.append(f"{label}: read {attr}={text!r} written with commas")
     return values
@@ -124,7 +126,8 @@ class _Reader:
     pos = self.numbers(elem, "pos", label, (3,), (0, 0, 0))
     for unsupported in ("axisangle", "xyaxes", "zaxis"):
       if elem.get(unsupported) is not None:
-        raise self.error(label, f"orientation written as {unsupported}; the converter reads quat or euler")
+        raise self.error(
+            label, f"orientation written as {unsupported}; the converter reads quat or euler")
     euler = self.numbers(elem, "euler", label, (3,))
     if euler is not None:
       a, b, c = euler * self.angle_scale   # MuJoCo's default eulerseq 'xyz', axes that move
@@ -187,7 +190,8 @@ class _Reader:
     label = f"<geom name={name!r}>"
     kind = attrs["type"]
     if kind not in _PRIMITIVES + ("mesh",):
-      raise self.error(label, f"type {kind!r} is not supported; parts use {', '.join(_PRIMITIVES)} or mesh")
+      raise self.error(
+          label, f"type {kind!r} is not supported; parts use {', '.join(_PRIMITIVES)} or mesh")
     size = self.numbers(merged, "size", label, (1, 2, 3), (0, 0, 0))
     pos, rot = self.frame(merged, label)
     fromto = self.numbers(merged, "fromto", label, (6,))
@@ -201,7 +205,8 @@ class _Reader:
         mesh=attrs.get("mesh") if kind == "mesh" else None, rgba=rgba,
         material=attrs.get("material"),
         collides=attrs["contype"] != "0" or attrs["conaffinity"] != "0",
-        visible=not name.startswith("noviz") and shown[3] > 0 and attrs["group"] not in ("3", "4", "5"),
+        visible=(not name.startswith("noviz") and shown[3] > 0
+                 and attrs["group"] not in _HIDDEN_GROUPS),
         density=float(self.numbers(merged, "density", label, (1,))[0]),
         mass=None if mass is None else float(mass[0]))
 
@@ -278,7 +283,7 @@ def _from_to(fromto, size, kind, label, reader):
   return (start + end) / 2, rot, np.array(full)
 
 
-def read(path):
+def read(path: str | pathlib.Path) -> OriginalModel:
   """Reads an original-format model file.
 
   Args:
