@@ -239,3 +239,11 @@ def test_a_bad_initial_layout_entry_is_a_format_error(tmp_path, entry, why):
   spec = model_format.load_spec(str(result.path))
   with pytest.raises(errors.ModelFormatError, match=why):
     layout.initial_layout(spec)
+
+
+def test_without_the_oracle_a_valid_model_passes(tmp_path, capsys):
+  original_models.table(tmp_path / "src")
+  assert cli.main([str(tmp_path / "src"), "--out", str(tmp_path / "out"), "--no-oracle",
+                   "--material", "metal"]) == 0
+  row = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("table_test"))
+  assert [c.strip() for c in row.split("|")][1:] == ["5", "8", "4", "ok", "skipped"]

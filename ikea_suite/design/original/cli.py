@@ -27,6 +27,7 @@ from ikea_suite.design import validate
 from ikea_suite.design.original import convert
 from ikea_suite.oracle import cursor_oracle
 
+SKIPPED = "skipped"
 COLUMNS = ("model", "parts", "connectors", "mated pairs", "validation", "oracle")
 
 
@@ -45,7 +46,8 @@ class Row:
 
   @property
   def ok(self):
-    return not self.error and self.validation == "ok" and self.oracle.startswith("ok")
+    return (not self.error and self.validation == "ok"
+            and (self.oracle.startswith("ok") or self.oracle == SKIPPED))
 
   def cells(self):
     return (self.model, self.parts, self.connectors, self.pairs, self.validation, self.oracle)
@@ -123,7 +125,7 @@ def process(source: pathlib.Path, out: str, material: str | None, category: str,
   row.notes = result.notes
   report = validate.check(result.path)
   row.validation = "ok" if report.ok else "FAIL: " + "; ".join(report.problems)
-  row.oracle = oracle_result(result.path, seed) if run_oracle else "skipped"
+  row.oracle = oracle_result(result.path, seed) if run_oracle else SKIPPED
   return row
 
 
