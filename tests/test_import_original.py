@@ -3,6 +3,7 @@
 import mujoco
 import numpy as np
 import pytest
+import trimesh
 
 import ikea_suite
 from ikea_suite import errors
@@ -247,3 +248,29 @@ def test_without_the_oracle_a_valid_model_passes(tmp_path, capsys):
                    "--material", "metal"]) == 0
   row = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("table_test"))
   assert [c.strip() for c in row.split("|")][1:] == ["5", "8", "4", "ok", "skipped"]
+
+
+def _board_with_visual_mesh(tmp_path, mesh):
+  mesh.export(tmp_path / "visual.stl")
+  a = _PART.format(name="a", body=_BOX.format(name="a") + _SITE.format(site="a-b,conn_site1")
+                   + '<geom type="mesh" mesh="v" contype="0" conaffinity="0" density="0"/>')
+  b = _PART.format(name="b", body=_BOX.format(name="b") + _SITE.format(site="b-a,conn_site1"))
+  path = tmp_path / "boards.xml"
+  path.write_text(f'<mujoco><asset><mesh name="v" file="visual.stl"/></asset>'
+                  f"<worldbody>{a}{b}</worldbody></mujoco>")
+  return path
+
+
+def test_a_mesh_enclosing_no_volume_is_replaced_by_its_hull_so_mujoco_loads_it(tmp_path):
+  box = trimesh.creation.box(extents=(0.2, 0.2, 0.04))
+  double_sided = trimesh.Trimesh(box.vertices, np.concatenate([box.faces, box.faces[:, ::-1]]),
+                                 process=False)   # every face twice, facing both ways
+  result = convert.convert(_board_with_visual_mesh(tmp_path, double_sided), tmp_path / "out")
+  assert any("mesh 'v' encloses no volume" in n and "convex hull" in n for n in result.notes)
+  mujoco.MjModel.from_xml_path(str(result.path))
+
+
+def test_a_flat_mesh_is_named_as_enclosing_no_volume(tmp_path):
+  flat = trimesh.Trimesh([[0, 0, 0], [0.1, 0, 0], [0, 0.1, 0], [0.1, 0.1, 0]], [[0, 1, 2], [1, 3, 2]])
+  with pytest.raises(errors.ConversionError, match="<mesh name='v'>: encloses no volume \\(a flat"):
+    convert.convert(_board_with_visual_mesh(tmp_path, flat), tmp_path / "out")

@@ -37,6 +37,8 @@ from ikea_suite.design.original import reader
 
 DEFAULT_CATEGORY = "original"
 FAMILY = "original"
+_MIN_VOLUME = 1e-9   # m^3: a mesh enclosing less is an open surface (MuJoCo rejects those)
+_MIN_THICKNESS = 1e-5   # m: rms thickness below which a mesh's vertices lie in a plane
 _FALLBACK_MATERIAL = "wood_light"   # for textured parts: the original's textures are wood
 
 
@@ -123,8 +125,23 @@ class _Converter:
       raise errors.ConversionError(self.model.path, f"<mesh name={name!r}>",
                                    f"{str(asset.file)!r} holds no triangles")
     mesh.apply_scale(asset.scale)
-    self.mesh_cache[name] = mesh
-    return mesh
+    self.mesh_cache[name] = self.closed(mesh, name)
+    return self.mesh_cache[name]
+
+  def closed(self, mesh, name):
+    """`mesh`, or its convex hull when it encloses no volume (MuJoCo rejects such meshes)."""
+    with np.errstate(invalid="ignore", divide="ignore"):   # trimesh divides by the volume
+      if abs(mesh.volume) > _MIN_VOLUME:
+        return mesh
+    points = mesh.vertices - mesh.vertices.mean(0)
+    thinnest = np.linalg.svd(points, compute_uv=False)[-1] / np.sqrt(len(points))
+    if thinnest < _MIN_THICKNESS:   # qhull cannot wrap a flat point set
+      raise errors.ConversionError(self.model.path, f"<mesh name={name!r}>",
+                                   "encloses no volume (a flat surface)")
+    hull = mesh.convex_hull
+    self.notes.append(f"mesh {name!r} encloses no volume (an open or double-sided surface); "
+                      "replaced by its convex hull")
+    return hull
 
   def original_mass(self, body):
     """The part's mass as MuJoCo computes it from the original file (kg)."""
@@ -146,7 +163,7 @@ class _Converter:
       material = _visual_material(g, self.model, self.material)
       base = None
       if g.collides:
-        base = g.mass / _volume_or_one(g, self) if g.mass is not None else g.density
+        base = g.mass / _positive_volume(g, self) if g.mass is not None else g.density
       if g.type != "mesh":
         if not g.collides and not g.visible:
           continue
@@ -203,7 +220,7 @@ class _Converter:
       geom.density = base * target / weighted
 
 
-def _volume_or_one(g, converter):
+def _positive_volume(g, converter):
   if g.type == "mesh":
     return max(abs(converter.mesh(g.mesh, f"<geom name={g.name!r}>").volume), 1e-12)
   return max(_primitive_volume(g.type, g.size), 1e-12)
