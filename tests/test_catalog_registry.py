@@ -79,3 +79,11 @@ def test_load_of_a_bad_path_names_the_file(user_dir):
 def test_registering_a_missing_directory_names_it(tmp_path):
   with pytest.raises(ikea_suite.ModelFormatError, match="no_dir.*no such directory"):
     ikea_suite.register_models(tmp_path / "no_dir")
+
+
+def test_registering_again_rescans_the_directory(user_dir):
+  ikea_suite.register_models(user_dir)
+  (user_dir / "mine_broken.xml").write_text(
+      (user_dir / "mine_good.xml").read_text().replace('model="mine_good"', 'model="mine_fixed"'))
+  assert ikea_suite.register_models(user_dir) == ["mine_broken", "mine_good"]
+  assert not any(m.name == "mine_broken" for m in ikea_suite.invalid_models())

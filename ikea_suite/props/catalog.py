@@ -100,7 +100,7 @@ def register_models(directory: str | os.PathLike) -> list[str]:
 
   Args:
     directory: a folder of model files in the furniture format (e.g. the output of
-      ikea-suite-import-original). Registering it again is harmless.
+      ikea-suite-import-original). Registering it again rescans it (new or changed files).
 
   Returns:
     The sorted names of the directory's valid models; see invalid_models() for the rest.
@@ -113,7 +113,8 @@ def register_models(directory: str | os.PathLike) -> list[str]:
     raise errors.ModelFormatError(directory, "<directory>", "no such directory to register")
   if directory not in _registered:
     _registered.append(directory)
-    _scan.cache_clear()
+  _scan.cache_clear()
+  model_format.load_spec.cache_clear()   # files may have changed since they were read
   return sorted(name for name, e in entries().items() if pathlib.Path(e.path).parent == directory)
 
 
