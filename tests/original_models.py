@@ -178,3 +178,39 @@ def two_boards(directory, twists_a="", twists_b="", yaw_b=0.0, name="boards"):
 </mujoco>
 """)
   return path
+
+
+def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=False):
+  """Two side panels and three shelves, each shelf mating both sides: the graph has loops.
+
+  Site up axes point out of the shelf ends (+-x); numbered groups as in many of
+  the original's files ('0-1' mates '1-0'). With `assembled` False every part
+  sits a few centimetres from its place. With `bad_loop` the right side's top
+  shelf site sits 1 cm too high, so that mate cannot close its loop.
+  """
+  left, right = "0.7071068 0 -0.7071068 0", "0.7071068 0 0.7071068 0"   # up -x, up +x
+  heights = (0.1, 0.4, 0.7)
+  def off(i):
+    return (0.0, 0.0, 0.0) if assembled else (0.02 * i, -0.03 * i, 0.015 * (i % 2))
+  bodies = []
+  for s, (x, quat, inner) in enumerate(((-0.4, left, 0.01), (0.4, right, -0.01))):
+    sites = "".join(f'\n      <site name="{s}-2,0,180,conn_site{k}" pos="{inner} 0 '
+                    f'{z - 0.4 + (0.01 if bad_loop and s == 1 and k == 2 else 0)}" '
+                    f'quat="{quat}" size="0.01"/>' for k, z in enumerate(heights))
+    dx, dy, dz = off(s + 1)
+    bodies.append(f"""
+    <body name="side{s}" pos="{x + dx} {dy} {0.4 + dz}">
+      <geom name="noviz_collision_side{s}_0" type="box" size="0.01 0.15 0.4" density="600"/>{sites}
+    </body>""")
+  for k, z in enumerate(heights):
+    dx, dy, dz = off(k + 3)
+    bodies.append(f"""
+    <body name="shelf{k}" pos="{dx} {dy} {z + dz}">
+      <geom name="noviz_collision_shelf{k}_0" type="box" size="0.39 0.15 0.01" density="600"/>
+      <site name="2-0,0,180,conn_site{2 * k}" pos="-0.39 0 0" quat="{left}" size="0.01"/>
+      <site name="2-1,0,180,conn_site{2 * k + 1}" pos="0.39 0 0" quat="{right}" size="0.01"/>
+    </body>""")
+  path = pathlib.Path(directory) / f"{name}.xml"
+  path.parent.mkdir(parents=True, exist_ok=True)
+  path.write_text(f'<mujoco model="{name}">\n  <worldbody>{"".join(bodies)}\n  </worldbody>\n</mujoco>\n')
+  return path

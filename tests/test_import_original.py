@@ -151,6 +151,7 @@ def test_the_command_converts_validates_assembles_and_tabulates(tmp_path, capsys
   original_models.table(src, name="table_side")
   original_models.table(src, name="table_moved", assembled=False, quirks=True)
   original_models.stool_with_mesh_collision(src)
+  original_models.bookcase(src, assembled=False)
   original_models.disconnected(src)
   out = tmp_path / "converted"
   assert cli.main([str(src), "--out", str(out)]) == 1   # one model cannot be converted
@@ -159,15 +160,16 @@ def test_the_command_converts_validates_assembles_and_tabulates(tmp_path, capsys
           for line in text.splitlines() if "|" in line}
   assert rows["model"] == ["parts", "connectors", "mated pairs", "validation", "oracle"]
   for name, parts, connectors, pairs in (("table_side", 5, 8, 4), ("table_moved", 5, 8, 4),
-                                         ("stool_mesh", 3, 4, 2)):
+                                         ("stool_mesh", 3, 4, 2), ("bookcase_loops", 5, 12, 6)):
     assert rows[name][:4] == [str(parts), str(connectors), str(pairs), "ok"], rows[name]
     assert rows[name][4].startswith("ok, "), rows[name]
   assert rows["shelf_broken"][3] == "not converted"
   assert "shelf_broken: NOT CONVERTED" in text and "parts ['c'] cannot be reached" in text
   assert "table_moved: 6 repairs and notes" in text and "dropped duplicate weld" in text
-  assert "3/4 models converted, validated and assembled" in text
+  assert "4/5 models converted, validated and assembled" in text
   try:
-    assert ikea_suite.register_models(out) == ["stool_mesh", "table_moved", "table_side"]
+    assert ikea_suite.register_models(out) == [
+        "bookcase_loops", "stool_mesh", "table_moved", "table_side"]
     assert "table_moved" in ikea_suite.furniture_names()
     assert ikea_suite.load("stool_mesh", "cursor", seed=0).task.furniture.name == "stool_mesh"
   finally:
@@ -274,3 +276,15 @@ def test_a_flat_mesh_is_named_as_enclosing_no_volume(tmp_path):
   flat = trimesh.Trimesh([[0, 0, 0], [0.1, 0, 0], [0, 0.1, 0], [0.1, 0.1, 0]], [[0, 1, 2], [1, 3, 2]])
   with pytest.raises(errors.ConversionError, match="<mesh name='v'>: encloses no volume \\(a flat"):
     convert.convert(_board_with_visual_mesh(tmp_path, flat), tmp_path / "out")
+
+
+def test_mates_that_close_loops_are_kept_and_one_that_cannot_is_dropped(tmp_path):
+  solved = assemble.solve(reader.read(original_models.bookcase(tmp_path, assembled=False)))
+  assert len(solved.pairs) == 6 and not solved.notes
+  np.testing.assert_allclose(solved.poses["side1"][0] - solved.poses["side0"][0], [0.8, 0, 0],
+                             atol=1e-9)
+  bad = assemble.solve(reader.read(original_models.bookcase(tmp_path, "bad", bad_loop=True)))
+  assert len(bad.pairs) == 5
+  assert [n for n in bad.notes if "do not meet" in n] == [
+      "sites '1-2,0,180,conn_site2' and '2-1,0,180,conn_site5' do not meet when the parts are "
+      "assembled through their other connectors (10.0 mm apart); dropped"]
