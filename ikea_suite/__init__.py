@@ -17,6 +17,9 @@ from ikea_suite.errors import IkeaSuiteError  # noqa: E402
 from ikea_suite.errors import ModelFormatError  # noqa: E402
 from ikea_suite.errors import OptionValueError  # noqa: E402
 from ikea_suite.errors import UnknownNameError  # noqa: E402
+from ikea_suite.props.catalog import invalid_models  # noqa: E402
+from ikea_suite.props.catalog import register_models  # noqa: E402
+from ikea_suite.props.catalog import unregister_models  # noqa: E402
 from ikea_suite.suite import DEFAULT_FURNITURE  # noqa: E402
 from ikea_suite.suite import DEFAULT_ROBOT  # noqa: E402
 from ikea_suite.suite import all_environments  # noqa: E402

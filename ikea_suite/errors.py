@@ -29,6 +29,11 @@ class ModelFormatError(IkeaSuiteError, ValueError):
     super().__init__(f"{self.path}: {element}: {problem}")
 
 
+class ConversionError(ModelFormatError):
+  """A model in the original IKEA environment's format that cannot be converted; names the
+  file, the element (a site, a body, a mesh) and why."""
+
+
 class ActionError(IkeaSuiteError, ValueError):
   """An action of the wrong shape or with non-finite entries."""
 

@@ -47,6 +47,9 @@ def _robot_options(factory):
 def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options):
   """Builds the assembly environment of `furniture` with `robot`.
 
+  `furniture` is a catalog name (see furniture_names() and register_models()) or
+  the path of a model file.
+
   Options: time_limit (s; default 30 + 25 per part); control_timestep, physics_timestep (s);
   connection_reward, completion_bonus; reward ("sparse" or "dense", tasks/rewards.py); distance_threshold (m), up_threshold
   and forward_threshold (cosines); and the robot's own options (for the

@@ -60,6 +60,7 @@ class Blueprint:
   description: str
   parts: list = dataclasses.field(default_factory=list)
   meshes: dict = dataclasses.field(default_factory=dict)   # asset name -> trimesh.Trimesh
+  metadata: dict = dataclasses.field(default_factory=dict)  # extra key -> value, file metadata
 
   def add_part(self, name, pos, rot=None, geoms=()):
     part = Part(name=name, pos=np.asarray(pos, float),

@@ -103,6 +103,12 @@ STEEL_PLATE = Construction("5 mm steel plate", PLATE, STEEL_DENSITY, thickness=0
 PLASTIC_SHEET = Construction("2.5 mm polypropylene", PLATE, PLASTIC_DENSITY, thickness=0.0025,
                              note="plastic storage boxes")
 
+def solid(density, source):
+  """A solid construction of a given density (kg/m^3), e.g. one that keeps an imported
+  model's own masses; `source` says where the density comes from."""
+  return Construction(f"solid at {density:g} kg/m^3", SOLID, float(density), note=source)
+
+
 ALL = (PINE, BIRCH, OAK, PARTICLEBOARD, MDF, HARDBOARD, HONEYCOMB_BOARD, HOLLOW_FIBREBOARD_LEG,
        STEEL_TUBE, STEEL_SHEET, STEEL_PLATE, PLASTIC_SHEET)
 BY_NAME = {c.name: c for c in ALL}

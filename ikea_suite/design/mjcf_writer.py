@@ -79,7 +79,8 @@ def blueprint_to_xml(blueprint, mesh_files=None):
                                  for k, v in physics_settings.OPTION.items()})
   custom = ET.SubElement(root, "custom")
   meta = (f"category={blueprint.category}; family={blueprint.family}; "
-          f"variant={blueprint.variant}; description={blueprint.description}")
+          f"variant={blueprint.variant}; description={blueprint.description}"
+          + "".join(f"; {key}={value}" for key, value in blueprint.metadata.items()))
   ET.SubElement(custom, "text", name=model_format.FURNITURE_TEXT, data=meta)
   asset = ET.SubElement(root, "asset")
   for name, (rgba, specular, shininess) in materials.MATERIALS.items():

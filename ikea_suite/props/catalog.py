@@ -4,10 +4,16 @@ Names read category_family_variant (e.g. table_four_leg_lack). Each entry
 carries its category, family and variant, part and connection counts, its
 assembled mass in kg (as MuJoCo compiles the file), and tags: the category, the family, `parts_N`, and `concave` when some part
 collides through convex pieces of a decomposed mesh.
+
+A user adds a directory of model files with `register_models(directory)`;
+its models join the catalog under their file stems. A file that fails the
+format loader, or whose name is already taken, affects only itself: it is
+left out of the catalog and listed by `invalid_models()` with the reason.
 """
 
 import dataclasses
 import functools
+import os
 import pathlib
 
 from ikea_suite import errors
@@ -34,21 +40,100 @@ def _has_mesh_collision(spec):
              for p in spec.parts for g in p.element.iter("geom"))
 
 
+@dataclasses.dataclass(frozen=True)
+class InvalidModel:
+  """A model file left out of the catalog, and why."""
+  name: str
+  path: str
+  error: errors.ModelFormatError
+
+  @property
+  def reason(self):
+    return self.error.problem
+
+
+_registered = []   # user directories, in the order they were registered
+
+
+def _entry(path, spec):
+  meta = spec.metadata
+  category = meta.get("category", "uncategorized")
+  tags = {category, meta.get("family", ""), f"parts_{len(spec.parts)}"}
+  if _has_mesh_collision(spec):
+    tags.add("concave")
+  return Entry(path.stem, str(path), category, len(spec.parts), frozenset(tags - {""}),
+               meta.get("family", ""), meta.get("variant", ""), meta.get("description", ""),
+               len(spec.parts) - 1, spec.mass)
+
+
 @functools.lru_cache(maxsize=1)
+def _scan():
+  """(name -> Entry, [InvalidModel]) over the committed models and every registered directory."""
+  valid, invalid = {}, []
+  for directory in [paths.furniture_dir(), *_registered]:
+    for path in sorted(directory.glob("*.xml")):
+      try:
+        if path.stem in valid:
+          raise errors.ModelFormatError(path, "<file>", f"the name {path.stem!r} is already "
+                                        f"taken by {valid[path.stem].path}")
+        valid[path.stem] = _entry(path, model_format.load_spec(str(path)))
+      except errors.ModelFormatError as e:
+        invalid.append(InvalidModel(path.stem, str(path), e))
+  return dict(sorted(valid.items())), invalid
+
+
 def entries():
-  """name -> Entry for every committed furniture model, sorted by name."""
-  out = {}
-  for path in sorted(paths.furniture_dir().glob("*.xml")):
-    spec = model_format.load_spec(str(path))
-    meta = spec.metadata
-    category = meta.get("category", "uncategorized")
-    tags = {category, meta.get("family", ""), f"parts_{len(spec.parts)}"}
-    if _has_mesh_collision(spec):
-      tags.add("concave")
-    out[path.stem] = Entry(path.stem, str(path), category, len(spec.parts),
-                           frozenset(tags - {""}), meta.get("family", ""), meta.get("variant", ""),
-                           meta.get("description", ""), len(spec.parts) - 1, spec.mass)
-  return out
+  """name -> Entry for every valid committed or registered furniture model, sorted by name."""
+  return _scan()[0]
+
+
+def invalid_models() -> list[InvalidModel]:
+  """Model files left out of the catalog, each with its ModelFormatError and reason.
+
+  Returns:
+    A list of InvalidModel (name, path, error, reason), in directory then file order.
+  """
+  return list(_scan()[1])
+
+
+def register_models(directory: str | os.PathLike) -> list[str]:
+  """Adds every model file (*.xml) of `directory` to the catalog, for names and load().
+
+  Args:
+    directory: a folder of model files in the furniture format (e.g. the output of
+      ikea-suite-import-original). Registering it again rescans it (new or changed files).
+
+  Returns:
+    The sorted names of the directory's valid models; see invalid_models() for the rest.
+
+  Raises:
+    ModelFormatError: `directory` is not a directory.
+  """
+  directory = pathlib.Path(directory).expanduser().resolve()
+  if not directory.is_dir():
+    raise errors.ModelFormatError(directory, "<directory>", "no such directory to register")
+  if directory not in _registered:
+    _registered.append(directory)
+  _scan.cache_clear()
+  model_format.load_spec.cache_clear()   # files may have changed since they were read
+  return sorted(name for name, e in entries().items() if pathlib.Path(e.path).parent == directory)
+
+
+def unregister_models(directory: str | os.PathLike) -> None:
+  """Removes a directory added by register_models (no effect if it was never added).
+
+  Args:
+    directory: the folder given to register_models.
+  """
+  directory = pathlib.Path(directory).expanduser().resolve()
+  if directory in _registered:
+    _registered.remove(directory)
+    _scan.cache_clear()
+
+
+def registered_directories() -> list[pathlib.Path]:
+  """The user directories added by register_models, in order."""
+  return list(_registered)
 
 
 def names(tag=None, min_parts=None, max_parts=None, category=None):
@@ -93,10 +178,32 @@ def representatives(smallest=False):
   return out
 
 
-def path_of(name):
-  """The model file of a catalog name; a path to a model file is returned as it is."""
-  if str(name).endswith(".xml") and pathlib.Path(name).is_file():
-    return str(name)
-  if name not in entries():
-    raise errors.UnknownNameError("furniture", name, entries())
-  return entries()[name].path
+def _looks_like_path(name):
+  return isinstance(name, os.PathLike) or (
+      isinstance(name, str) and (name.endswith(".xml") or os.sep in name))
+
+
+def path_of(name: str | os.PathLike) -> str:
+  """The model file of a catalog name, or `name` itself when it is a path to a model file.
+
+  Args:
+    name: a catalog name (see names()) or the path (str or PathLike) of a model file.
+
+  Returns:
+    The model file's path, as a string.
+
+  Raises:
+    ModelFormatError: the path is not a valid model file, or the name is one of
+      invalid_models() (the error says why).
+    UnknownNameError: anything else that is not a catalog name.
+  """
+  if _looks_like_path(name):
+    path = str(pathlib.Path(name).expanduser())
+    model_format.load_spec(path)   # raises ModelFormatError naming the file and the fault
+    return path
+  if name in entries():
+    return entries()[name].path
+  broken = [m for m in _scan()[1] if m.name == name]
+  if broken:
+    raise broken[0].error
+  raise errors.UnknownNameError("furniture", name, entries())

@@ -1,0 +1,233 @@
+"""Matches an original model's connector sites and solves its assembled pose from them.
+
+The original's body poses are not always the assembled layout (some mated sites
+sit centimetres apart or face opposite ways in the file), so the assembled pose
+is derived from the connector frames alone:
+
+1. Every connector site becomes one of our connectors: type 'A-B', mates
+   'B-A', frame turned so that the original's +y forward becomes our +x
+   (same up axis z). The twists of a type pair are unified over all its sites
+   and closed under negation, as our format needs both mates to list the same
+   twists and either may be the first of a pair.
+2. Sites are matched greedily, closest pair first (distance between the sites
+   in the file's poses, opposed up axes counted as 10 cm), each site used
+   once: a site `A-B` mates an unused `B-A` on another part.
+3. From a root part (the one with the most matches), mates are chained
+   breadth-first: each new part is placed so that its site coincides with
+   its partner, up axes equal and forwards one allowed twist apart (the twist
+   closest to the file's relative orientation).
+4. Matches that close a loop are kept when they coincide within 0.1 mm and
+   dropped (reported) when not.
+
+Sites left without a partner are dropped and reported; parts that cannot be
+reached from the root make the model unconvertible (ConversionError naming
+the parts and the unpartnered sites).
+"""
+
+import collections
+import dataclasses
+
+import numpy as np
+
+from ikea_suite import errors
+from ikea_suite import geometry
+from ikea_suite.design.original import names
+from ikea_suite.design.original import reader
+
+# The original's site frame has +y forward; ours +x. Both have +z up.
+Y_FORWARD_TO_X = geometry.rot_z(np.pi / 2)
+_OPPOSED_UP_COST = 0.05   # metres per unit of (1 - cos) between up axes, when matching
+_CLOSE_POS = 1e-4         # metres: a loop match is kept when its sites meet this closely
+_CLOSE_COS = 0.9999       # and their axes agree to this cosine
+
+
+@dataclasses.dataclass
+class Connector:
+  """A connector site in our convention."""
+  site: str               # the original site name
+  body: str
+  type: str
+  mates: str
+  twists_deg: tuple       # () = any twist
+  pos: np.ndarray         # part frame
+  rot: np.ndarray         # part frame; z up, x forward
+
+
+@dataclasses.dataclass
+class Assembly:
+  """The solved assembled layout of an original model."""
+  root: str
+  poses: dict             # body -> (pos (3,), rot (3, 3)), the root at its file pose
+  connectors: list        # the matched connectors (the ones to write)
+  pairs: list             # (site, site) of every mated pair kept
+  notes: list             # repairs: dropped sites, unified twists, dropped welds and loops
+
+
+def _connectors(model):
+  out = []
+  for body in model.bodies:
+    for site in body.sites:
+      if names.is_connector(site.name):
+        parsed = names.parse(site.name, model.path)
+        out.append(Connector(site.name, body.name, parsed.type, parsed.mate_type,
+                             parsed.twists_deg, site.pos, site.rot @ Y_FORWARD_TO_X))
+  if not out:
+    raise errors.ConversionError(model.path, "<worldbody>",
+                                 "no connector sites (names with 'conn_site')")
+  return out
+
+
+def _closed_twists(lists):
+  if any(not t for t in lists):
+    return ()
+  return tuple(sorted({round(s * a % 360.0, 6) % 360.0 for t in lists for a in t for s in (1, -1)}))
+
+
+def _unify_twists(connectors, notes):
+  by_pair = collections.defaultdict(list)
+  for c in connectors:
+    by_pair[frozenset((c.type, c.mates))].append(c)
+  for key, members in by_pair.items():
+    twists = _closed_twists([c.twists_deg for c in members])
+    if any(c.twists_deg != twists for c in members):
+      written = sorted({c.twists_deg for c in members})
+      notes.append(f"twists of {' and '.join(sorted(key))} unified to "
+                   f"{list(twists) or 'any'} (written: {[list(t) or 'any' for t in written]})")
+    for c in members:
+      c.twists_deg = twists
+
+
+def _world(pose, c):
+  pos, rot = pose
+  return pos + rot @ c.pos, rot @ c.rot
+
+
+def _match(connectors, file_poses, notes):
+  """Greedy closest-first matching; returns index pairs and notes on the unmatched sites."""
+  candidates = []
+  for i, a in enumerate(connectors):
+    for j in range(i + 1, len(connectors)):
+      b = connectors[j]
+      if a.body != b.body and a.mates == b.type:
+        (pa, ra), (pb, rb) = _world(file_poses[a.body], a), _world(file_poses[b.body], b)
+        cost = np.linalg.norm(pa - pb) + _OPPOSED_UP_COST * (1 - ra[:, 2] @ rb[:, 2])
+        candidates.append((cost, i, j))
+  used, pairs = set(), []
+  for _, i, j in sorted(candidates):
+    if i not in used and j not in used:
+      used.update((i, j))
+      pairs.append((i, j))
+  could = {k for _, i, j in candidates for k in (i, j)}
+  unmatched = []
+  for k, c in enumerate(connectors):
+    if k in used:
+      continue
+    why = ("every site it could mate is taken by a closer pair" if k in could
+           else f"no site of type {c.mates!r} on another part")
+    unmatched.append(f"site {c.site!r} on part {c.body!r} has no partner: {why}")
+  notes.extend(f"{u}; dropped" for u in unmatched)
+  return pairs, unmatched
+
+
+def _best_twist(c_a, c_b, rel_file):
+  """The allowed twist closest to the file's relative orientation of the two parts."""
+  m = c_a.rot.T @ rel_file @ c_b.rot
+  if not c_a.twists_deg:
+    return float(np.arctan2(m[1, 0], m[0, 0]))
+  return max((np.radians(t) for t in c_a.twists_deg),
+             key=lambda t: np.trace(geometry.rot_z(t).T @ m))
+
+
+def _place(parent_pose, c_a, c_b, rel_file):
+  """Pose of c_b's part that puts c_b on c_a (whose part is at parent_pose)."""
+  pos_p, rot_p = parent_pose
+  rot = rot_p @ c_a.rot @ geometry.rot_z(_best_twist(c_a, c_b, rel_file)) @ c_b.rot.T
+  return pos_p + rot_p @ c_a.pos - rot @ c_b.pos, rot
+
+
+def _coincide(c_a, c_b, poses):
+  (pa, ra), (pb, rb) = _world(poses[c_a.body], c_a), _world(poses[c_b.body], c_b)
+  if np.linalg.norm(pa - pb) > _CLOSE_POS or ra[:, 2] @ rb[:, 2] < _CLOSE_COS:
+    return False
+  if not c_a.twists_deg:
+    return True
+  return any(rb[:, 0] @ (ra @ geometry.rot_z(np.radians(t)))[:, 0] > _CLOSE_COS
+             for t in c_a.twists_deg)
+
+
+def _weld_notes(model, mated_bodies):
+  notes, seen = [], set()
+  bodies = {b.name for b in model.bodies}
+  for a, b in model.welds:
+    key = frozenset((a, b))
+    if key in seen:
+      notes.append(f"dropped duplicate weld between {a!r} and {b!r}")
+    elif a not in bodies or b not in bodies:
+      notes.append(f"dropped weld between {a!r} and {b!r}: no such part body")
+    elif key not in mated_bodies:
+      notes.append(f"dropped dead weld between {a!r} and {b!r}: "
+                   "the parts share no mated connectors")
+    seen.add(key)
+  return notes
+
+
+def solve(model: reader.OriginalModel) -> Assembly:
+  """Matches connectors and solves the assembled pose of an original model.
+
+  Args:
+    model: an OriginalModel from reader.read.
+
+  Returns:
+    An Assembly. The file's own welds are not used (the converted model gets
+    one weld per mated pair); duplicate and dead ones are reported in `notes`.
+
+  Raises:
+    ConversionError: bad connector names, no connectors, or parts unreachable
+      from the root through mating connectors (names them and the unpartnered sites).
+  """
+  notes = []
+  connectors = _connectors(model)
+  _unify_twists(connectors, notes)
+  file_poses = {b.name: (b.pos, b.rot) for b in model.bodies}
+  pairs, unmatched = _match(connectors, file_poses, notes)
+  degree = collections.Counter(connectors[k].body for pair in pairs for k in pair)
+  order = [b.name for b in model.bodies]
+  root = max(order, key=lambda name: (degree[name], -order.index(name)))
+  edges = collections.defaultdict(list)
+  for i, j in pairs:
+    edges[connectors[i].body].append((i, j))
+    edges[connectors[j].body].append((j, i))
+  poses, tree, queue = {root: file_poses[root]}, set(), collections.deque([root])
+  while queue:
+    body = queue.popleft()
+    for own, other in edges[body]:
+      child = connectors[other].body
+      if child in poses:
+        continue
+      rel_file = file_poses[body][1].T @ file_poses[child][1]
+      poses[child] = _place(poses[body], connectors[own], connectors[other], rel_file)
+      tree.add(frozenset((own, other)))
+      queue.append(child)
+  unreachable = [name for name in order if name not in poses]
+  if unreachable:
+    with_sites = {c.body for c in connectors}
+    bare = [n for n in unreachable if n not in with_sites]
+    detail = "; ".join(unmatched) or "their connectors only mate among themselves"
+    if bare:
+      detail += f"; parts with no connector sites: {bare}"
+    raise errors.ConversionError(
+        model.path, "<worldbody>", f"parts {unreachable} cannot be reached from root part "
+        f"{root!r} through mating connectors ({detail})")
+  kept = []
+  for i, j in pairs:
+    a, b = connectors[i], connectors[j]
+    if frozenset((i, j)) in tree or _coincide(a, b, poses):
+      kept.append((i, j))
+    else:
+      gap = np.linalg.norm(_world(poses[a.body], a)[0] - _world(poses[b.body], b)[0])
+      notes.append(f"sites {a.site!r} and {b.site!r} do not meet when the parts are assembled "
+                   f"through their other connectors ({gap * 1000:.1f} mm apart); dropped")
+  notes.extend(_weld_notes(model, {frozenset((connectors[i].body, connectors[j].body))
+                                   for i, j in kept}))
+  return Assembly(root, poses, [connectors[k] for pair in kept for k in pair],
+                  [(connectors[i].site, connectors[j].site) for i, j in kept], notes)

@@ -1,0 +1,216 @@
+"""Writes small furniture models in the original IKEA environment's format, for converter tests.
+
+Nothing here comes from the original's files: meshes are trimesh boxes, the
+XML is written from the format's documented facts (top-level bodies, visual
+meshes with collisions off, `noviz_collision_*` primitives carrying density,
+connector sites named `<A>-<B>,<angles>,conn_site<tag>` with +y forward).
+"""
+
+import pathlib
+
+import numpy as np
+import trimesh
+
+from ikea_suite.design import shapes
+
+# A site frame whose up (+z) points down and whose forward (+y) points along -y:
+# a half turn about x. Legs hang from the top's underside.
+DOWN = "0 1 0 0"
+CORNERS = [(-0.25, -0.25), (0.25, -0.25), (0.25, 0.25), (-0.25, 0.25)]
+TOP_Z, LEG_HALF = 0.42, 0.2
+
+
+def _meshes(directory, name):
+  folder = pathlib.Path(directory) / name
+  folder.mkdir(parents=True, exist_ok=True)
+  trimesh.creation.box(extents=(600, 600, 40)).export(folder / "top.stl")   # millimetres
+  trimesh.creation.box(extents=(1, 1, 1)).export(folder / "unit.stl")      # scaled per axis
+
+
+def _leg(i, pos, quat="1 0 0 0", extra_site=""):
+  return f"""
+    <body name="leg{i}" pos="{pos}" quat="{quat}">
+      <geom name="leg{i}_mesh" type="mesh" mesh="leg" material="wood" contype="0" conaffinity="0" density="0"/>
+      <geom name="noviz_collision_leg{i}_0" type="box" size="0.02 0.02 0.2" rgba="0 0 0 0" density="500"/>
+      <site name="leg-table,0,90,180,270,conn_site{i}" pos="0 0 {LEG_HALF}" quat="{DOWN}" size="0.01"/>
+      <site name="leg{i}_bottom_site" pos="0 0 -{LEG_HALF}" size="0.01"/>{extra_site}
+    </body>"""
+
+
+def table(directory, name="table_test", assembled=True, quirks=False):
+  """A 55 cm side table: a top and four legs, each leg mating any corner of the top.
+
+  Args:
+    directory: folder to write `<name>.xml` and `<name>/*.stl` into.
+    assembled: False writes the legs centimetres to decimetres from their corners,
+      one of them upside down (its up axis opposed to its partner's), and the top
+      shifted, as some of the original's files are.
+    quirks: adds a non-normalised body and site quaternion, comma-written rgba,
+      duplicate and dead welds, a connector site with no partner and initpos data.
+
+  Returns:
+    The XML path.
+  """
+  _meshes(directory, name)
+  top_pos = f"0 0 {TOP_Z}" if assembled else f"0.1 -0.05 {TOP_Z + 0.08}"
+  top_quat = "2 0 0 0" if quirks else "1 0 0 0"
+  rgba = "0.9,0.9,0.9,1" if quirks else "0.9 0.9 0.9 1"
+  top_sites = "".join(
+      f'\n      <site name="table-leg,0,90,180,270,conn_site{i}" pos="{x} {y} -0.02" '
+      f'quat="{"0 2 0 0" if quirks and i == 0 else DOWN}" size="0.01"/>'
+      for i, (x, y) in enumerate(CORNERS))
+  legs = []
+  for i, (x, y) in enumerate(CORNERS):
+    if assembled:
+      pos, quat = f"{x} {y} {LEG_HALF}", "1 0 0 0"
+    else:   # displaced by 3 to 25 cm; leg 2 upside down
+      pos = f"{x * 1.4 + 0.03 * i} {y * 1.2} {LEG_HALF + 0.02 * i}"
+      quat = "0 1 0 0" if i == 2 else "0.9962 0 0 0.0872"
+    extra = '\n      <site name="leg-shelf,conn_site9" pos="0 0 0" size="0.01"/>' if quirks and i == 3 else ""
+    legs.append(_leg(i, pos, quat, extra))
+  welds = ""
+  if quirks:
+    welds = """
+  <equality>
+    <weld body1="top" body2="leg0" active="false"/>
+    <weld body1="top" body2="leg0" active="false"/>
+    <weld body1="leg0" body2="leg1" active="false"/>
+  </equality>
+  <custom>
+    <numeric name="top_initpos" data="0.6 0.3 0.02 1 0 0 0"/>
+    <numeric name="leg0_initpos" data="-0.4 0.2 0.02 0.7071 0.7071 0 0"/>
+  </custom>"""
+  xml = f"""<mujoco model="{name}">
+  <asset>
+    <mesh name="top" file="{name}/top.stl" scale="0.001 0.001 0.001"/>
+    <mesh name="leg" file="{name}/unit.stl" scale="0.04 0.04 0.4"/>
+    <texture name="wood" file="../textures/light-wood.png" type="2d"/>
+    <material name="wood" texture="wood"/>
+  </asset>
+  <worldbody>
+    <body name="top" pos="{top_pos}" quat="{top_quat}">
+      <geom name="top_mesh" type="mesh" mesh="top" rgba="{rgba}" contype="0" conaffinity="0" density="0"/>
+      <geom name="noviz_collision_top_0" type="box" size="0.3 0.3 0.02" rgba="0 0 0 0" density="100"/>{top_sites}
+      <site name="top_top_site" pos="0 0 0.02" size="0.01"/>
+      <site name="top_corner_site1" pos="0.3 0.3 0.02" size="0.01"/>
+    </body>{"".join(legs)}
+  </worldbody>{welds}
+</mujoco>
+"""
+  path = pathlib.Path(directory) / f"{name}.xml"
+  path.write_text(xml)
+  return path
+
+
+def disconnected(directory, name="shelf_broken"):
+  """Three boards where the third's only site mates a group no other part has."""
+  _meshes(directory, name)
+  bodies = []
+  for i, (part, site) in enumerate((("a", "a-b,conn_site1"), ("b", "b-a,conn_site1"),
+                                    ("c", "c-d,0,180,conn_site1"))):
+    bodies.append(f"""
+    <body name="{part}" pos="{i * 0.7} 0 0.02">
+      <geom name="noviz_collision_{part}_0" type="box" size="0.3 0.3 0.02" density="100"/>
+      <site name="{site}" pos="0.3 0 0" size="0.01"/>
+    </body>""")
+  path = pathlib.Path(directory) / f"{name}.xml"
+  path.write_text(f'<mujoco model="{name}">\n  <worldbody>{"".join(bodies)}\n  </worldbody>\n</mujoco>\n')
+  return path
+
+
+def stool_with_mesh_collision(directory, name="stool_mesh"):
+  """A seat and two inverted-T legs that collide through their own meshes (no primitives).
+
+  The seat mesh is convex (it collides as itself); each leg mesh is concave (a
+  post on a foot), so the converter decomposes it with coacd.
+  """
+  folder = pathlib.Path(directory) / name
+  folder.mkdir(parents=True, exist_ok=True)
+  trimesh.creation.box(extents=(400, 300, 30)).export(folder / "seat.stl")
+  leg = shapes.extrude_polygon(shapes.t_profile(0.3, 0.4, 0.04, 0.04), 0.04)   # foot along x
+  leg.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, (0, 0, 1)))
+  leg.export(folder / "leg.stl")
+  legs = "".join(f"""
+    <body name="leg{i}" pos="{x} 0 0.2">
+      <geom name="leg{i}_mesh" type="mesh" mesh="leg" rgba="0.3 0.2 0.1 1" density="600"/>
+      <site name="leg-seat,0,180,conn_site{i}" pos="0 0 0.2" quat="{DOWN}" size="0.01"/>
+    </body>""" for i, x in enumerate((-0.15, 0.15)))
+  path = pathlib.Path(directory) / f"{name}.xml"
+  path.write_text(f"""<mujoco model="{name}">
+  <asset>
+    <mesh name="seat" file="{name}/seat.stl" scale="0.001 0.001 0.001"/>
+    <mesh name="leg" file="{name}/leg.stl"/>
+  </asset>
+  <worldbody>
+    <body name="seat" pos="0 0 0.415">
+      <geom name="seat_mesh" type="mesh" mesh="seat" rgba="0.9 0.8 0.6 1" density="500"/>
+      <site name="seat-leg,0,180,conn_site1" pos="-0.15 0 -0.015" quat="{DOWN}" size="0.01"/>
+      <site name="seat-leg,0,180,conn_site2" pos="0.15 0 -0.015" quat="{DOWN}" size="0.01"/>
+    </body>{legs}
+  </worldbody>
+</mujoco>
+""")
+  return path
+
+
+def two_boards(directory, twists_a="", twists_b="", yaw_b=0.0, name="boards"):
+  """A board with a second board standing on it, joined by one site pair at the top's centre.
+
+  Args:
+    twists_a, twists_b: the angle fields of the two site names, e.g. ',90' (empty: any twist).
+    yaw_b: degrees the upper board is turned about z in the file.
+  """
+  half = np.radians(yaw_b) / 2
+  quat = f"{np.cos(half):.9f} 0 0 {np.sin(half):.9f}"
+  path = pathlib.Path(directory) / f"{name}.xml"
+  path.parent.mkdir(parents=True, exist_ok=True)
+  path.write_text(f"""<mujoco model="{name}">
+  <worldbody>
+    <body name="lower" pos="0 0 0.02">
+      <geom name="noviz_collision_lower_0" type="box" size="0.3 0.2 0.02" density="500"/>
+      <site name="lower-upper{twists_a},conn_site1" pos="0 0 0.02" size="0.01"/>
+    </body>
+    <body name="upper" pos="0 0 0.07" quat="{quat}">
+      <geom name="noviz_collision_upper_0" type="box" size="0.1 0.05 0.03" density="500"/>
+      <site name="upper-lower{twists_b},conn_site1" pos="0 0 -0.03" size="0.01"/>
+    </body>
+  </worldbody>
+</mujoco>
+""")
+  return path
+
+
+def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=False):
+  """Two side panels and three shelves, each shelf mating both sides: the graph has loops.
+
+  Site up axes point out of the shelf ends (+-x); numbered groups as in many of
+  the original's files ('0-1' mates '1-0'). With `assembled` False every part
+  sits a few centimetres from its place. With `bad_loop` the right side's top
+  shelf site sits 1 cm too high, so that mate cannot close its loop.
+  """
+  left, right = "0.7071068 0 -0.7071068 0", "0.7071068 0 0.7071068 0"   # up -x, up +x
+  heights = (0.1, 0.4, 0.7)
+  def off(i):
+    return (0.0, 0.0, 0.0) if assembled else (0.02 * i, -0.03 * i, 0.015 * (i % 2))
+  bodies = []
+  for s, (x, quat, inner) in enumerate(((-0.4, left, 0.01), (0.4, right, -0.01))):
+    sites = "".join(f'\n      <site name="{s}-2,0,180,conn_site{k}" pos="{inner} 0 '
+                    f'{z - 0.4 + (0.01 if bad_loop and s == 1 and k == 2 else 0)}" '
+                    f'quat="{quat}" size="0.01"/>' for k, z in enumerate(heights))
+    dx, dy, dz = off(s + 1)
+    bodies.append(f"""
+    <body name="side{s}" pos="{x + dx} {dy} {0.4 + dz}">
+      <geom name="noviz_collision_side{s}_0" type="box" size="0.01 0.15 0.4" density="600"/>{sites}
+    </body>""")
+  for k, z in enumerate(heights):
+    dx, dy, dz = off(k + 3)
+    bodies.append(f"""
+    <body name="shelf{k}" pos="{dx} {dy} {z + dz}">
+      <geom name="noviz_collision_shelf{k}_0" type="box" size="0.39 0.15 0.01" density="600"/>
+      <site name="2-0,0,180,conn_site{2 * k}" pos="-0.39 0 0" quat="{left}" size="0.01"/>
+      <site name="2-1,0,180,conn_site{2 * k + 1}" pos="0.39 0 0" quat="{right}" size="0.01"/>
+    </body>""")
+  path = pathlib.Path(directory) / f"{name}.xml"
+  path.parent.mkdir(parents=True, exist_ok=True)
+  path.write_text(f'<mujoco model="{name}">\n  <worldbody>{"".join(bodies)}\n  </worldbody>\n</mujoco>\n')
+  return path
