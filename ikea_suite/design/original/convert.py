@@ -186,7 +186,8 @@ class _Converter:
         pieces = [bp.Geom("mesh", pos=tuple(g.pos), rot=g.rot, material=material, visible=g.visible,
                           mesh=part_geoms.register_mesh(furniture, mesh, prefix))]
       else:
-        pieces = part_geoms.concave(furniture, mesh, prefix, material, g.pos, g.rot)
+        # The pieces carry the mass (set_densities), so the visual mesh carries none.
+        pieces = part_geoms.concave(furniture, mesh, prefix, material, None, g.pos, g.rot)
         if not g.visible:
           pieces = pieces[1:]
         self.notes.append(f"part {part_name!r}: concave collision mesh {g.mesh!r} decomposed "
