@@ -34,6 +34,10 @@ class ConversionError(ModelFormatError):
   file, the element (a site, a body, a mesh) and why."""
 
 
+class ImportSpecError(IkeaSuiteError, ValueError):
+  """A furniture spec or mesh given to design.import_model that cannot be built."""
+
+
 class ActionError(IkeaSuiteError, ValueError):
   """An action of the wrong shape or with non-finite entries."""
 

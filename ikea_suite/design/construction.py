@@ -112,6 +112,9 @@ def solid(density, source):
 ALL = (PINE, BIRCH, OAK, PARTICLEBOARD, MDF, HARDBOARD, HONEYCOMB_BOARD, HOLLOW_FIBREBOARD_LEG,
        STEEL_TUBE, STEEL_SHEET, STEEL_PLATE, PLASTIC_SHEET)
 BY_NAME = {c.name: c for c in ALL}
+# Constructions that make sense for an arbitrary solid shape (an imported mesh or
+# primitive); hollow and layered ones need the shape they were modelled for.
+SOLIDS = {c.name: c for c in ALL if c.kind == SOLID}
 
 # Finish -> species, for parts a family declares solid wood: birch-coloured wood is
 # birch, medium (oak-coloured) wood is oak, and everything else (light, stained dark,

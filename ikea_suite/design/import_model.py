@@ -33,6 +33,7 @@ import sys
 import numpy as np
 import trimesh
 
+from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.design import blueprint as bp
 from ikea_suite.design import construction as cons
@@ -47,12 +48,9 @@ def load_mesh(path, scale=1.0):
   """A single watertight-or-not triangle mesh from an STL or OBJ file, scaled to metres."""
   mesh = trimesh.load(str(path), force="mesh")
   if not isinstance(mesh, trimesh.Trimesh) or not len(mesh.faces):
-    raise ValueError(f"{path}: no triangle mesh in the file")
+    raise errors.ImportSpecError(f"{path}: no triangle mesh in the file")
   mesh.apply_scale(scale)
   return mesh
-
-
-SOLID_CONSTRUCTIONS = {c.name: c for c in cons.ALL if c.kind == cons.SOLID}
 
 
 def part_geometry(furniture, mesh, prefix, material, construction=cons.PARTICLEBOARD):
@@ -68,30 +66,30 @@ def blueprint_from_spec(spec, base_dir="."):
   base_dir = pathlib.Path(base_dir)
   for key in ("name", "category", "family", "variant", "parts", "connections"):
     if key not in spec:
-      raise ValueError(f"furniture spec needs '{key}'")
+      raise errors.ImportSpecError(f"furniture spec needs '{key}'")
   if not spec["name"].startswith(f"{spec['category']}_{spec['family']}_"):
-    raise ValueError(f"name {spec['name']!r} should read category_family_variant")
+    raise errors.ImportSpecError(f"name {spec['name']!r} should read category_family_variant")
   furniture = bp.Blueprint(spec["name"], spec["category"], spec["family"], spec["variant"],
                            spec.get("description", spec["name"]))
   for item in spec["parts"]:
     material = item.get("material", "wood_light")
     if material not in materials.MATERIALS:
-      raise ValueError(f"part {item['name']!r}: material {material!r} is not one of "
+      raise errors.ImportSpecError(f"part {item['name']!r}: material {material!r} is not one of "
                        f"{sorted(materials.MATERIALS)}")
     construction = item.get("construction", cons.PARTICLEBOARD.name)
-    if construction not in SOLID_CONSTRUCTIONS:
-      raise ValueError(f"part {item['name']!r}: construction {construction!r} is not one of "
-                       f"{sorted(SOLID_CONSTRUCTIONS)}")
+    if construction not in cons.SOLIDS:
+      raise errors.ImportSpecError(f"part {item['name']!r}: construction {construction!r} is not one of "
+                       f"{sorted(cons.SOLIDS)}")
     mesh = load_mesh(base_dir / item["mesh"], item.get("scale", 1.0))
     rot = geometry.quat_to_mat(np.asarray(item.get("quat", (1, 0, 0, 0)), float))
     furniture.add_part(item["name"], item["pos"], rot,
                        part_geometry(furniture, mesh, item["name"], material,
-                                     SOLID_CONSTRUCTIONS[construction]))
+                                     cons.SOLIDS[construction]))
   names = {p.name for p in furniture.parts}
   for c in spec["connections"]:
     for key in ("a", "b"):
       if c[key] not in names:
-        raise ValueError(f"connection names part {c[key]!r}; parts are {sorted(names)}")
+        raise errors.ImportSpecError(f"connection names part {c[key]!r}; parts are {sorted(names)}")
     furniture.connect(furniture.part(c["a"]), furniture.part(c["b"]), c["pos"], c["up"],
                       c["forward"], c["type_a"], c["type_b"], tuple(c.get("twists", (0,))))
   return furniture

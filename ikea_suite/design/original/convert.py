@@ -58,7 +58,7 @@ class Converted:
 def material_names() -> list[str]:
   """Valid values of `material`: the solid constructions of our material table (the
   original's collision primitives are solid shapes, so hollow constructions do not apply)."""
-  return sorted(c.name for c in construction.ALL if c.kind == construction.SOLID)
+  return sorted(construction.SOLIDS)
 
 
 def material_density(material: str) -> float:
