@@ -3,6 +3,7 @@
     ikea-suite-rollout                       # the Cursor oracle on the default furniture
     ikea-suite-rollout --policy random --furniture chair_back_ivar --episodes 3
     ikea-suite-rollout --list                # the furniture catalog with part counts and masses
+    ikea-suite-rollout --doctor              # versions, rendering backend, hints for problems
 """
 
 import argparse
@@ -12,6 +13,7 @@ import time
 import numpy as np
 
 import ikea_suite  # sets MUJOCO_GL=egl on a display-less Linux machine
+from ikea_suite import doctor
 from ikea_suite.oracle import cursor_oracle
 from ikea_suite.props import catalog
 
@@ -65,7 +67,11 @@ def main(argv=None):
   parser.add_argument("--time-limit", type=float, default=None, help="seconds of simulated time")
   parser.add_argument("--list", action="store_true",
                       help="print the furniture catalog (parts, mass) and exit")
+  parser.add_argument("--doctor", action="store_true",
+                      help="print versions and whether rendering works, with hints, and exit")
   args = parser.parse_args(argv)
+  if args.doctor:
+    return 1 if doctor.main() else 0
   if args.list:
     print_catalog()
     return 0

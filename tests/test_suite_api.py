@@ -127,3 +127,21 @@ def test_an_ik_failure_holds_the_arm_still(monkeypatch):
   env.step(action)
   assert robot._ik.failures == 1
   np.testing.assert_allclose(env.physics.data.qpos[robot._ik_to_qpos], before, atol=2e-3)
+
+
+def test_doctor_reports_versions_and_rendering(capsys):
+  from ikea_suite import cli
+  from ikea_suite import doctor
+  problems = doctor.main()
+  out = capsys.readouterr().out
+  for name in ("python", "mujoco", "dm_control", "numpy", "MUJOCO_GL", "offscreen GL"):
+    assert name in out
+  assert f"{problems} problem(s) found" in out
+  assert cli.main(["--doctor"]) == (1 if problems else 0)
+
+
+def test_doctor_flags_an_unsupported_python(monkeypatch):
+  from ikea_suite import doctor
+  monkeypatch.setattr(doctor.sys, "version_info", (3, 13, 0, "final", 0))
+  (python,) = [c for c in doctor.checks() if c[0] == "python"]
+  assert python[2] == "Python 3.13 is not supported" and "3.12" in python[3]
