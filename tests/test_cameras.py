@@ -1,6 +1,5 @@
 """Image observables: RGB, depth, part segmentation, boxes and the goal image."""
 
-import functools
 
 import numpy as np
 import pytest
@@ -19,23 +18,6 @@ from ikea_suite.tasks import cameras
 
 SIZE = 32
 ALL_OUTPUTS = ("rgb", "depth", "segmentation", "part_boxes")
-
-
-@functools.lru_cache(maxsize=None)
-def _gl_problem():
-  """None when an offscreen GL context can render, else the reason it cannot."""
-  try:
-    physics = mjcf.Physics.from_xml_string("<mujoco><worldbody/></mujoco>")
-    physics.render(8, 8)
-    return None
-  except Exception as error:  # pylint: disable=broad-except
-    return f"no OpenGL rendering (set MUJOCO_GL=egl with Mesa or a GPU): {error}"
-
-
-@pytest.fixture
-def gl():
-  if _gl_problem():
-    pytest.skip(_gl_problem())
 
 
 def _load(**options):

@@ -21,7 +21,7 @@ FURNITURE = "table_four_leg_lack"
 
 
 @pytest.fixture(scope="module")
-def camera_file(tmp_path_factory):
+def camera_file(tmp_path_factory, gl):
   """Two short oracle episodes with 16-pixel front images, written by the CLI in-process."""
   path = str(tmp_path_factory.mktemp("demos") / "demos.hdf5")
   assert collect.main(["--episodes", "2", "--out", path, "--cameras", "front", "--image-size",

@@ -36,7 +36,7 @@ def test_check_env_passes(furniture, robot):
   env.close()
 
 
-def test_make_gives_spaces_mirroring_specs_and_seeded_episodes():
+def test_make_gives_spaces_mirroring_specs_and_seeded_episodes(gl):
   env = gymnasium.make(ikea_suite.gym.ENV_ID, furniture="table_four_leg_lack", robot="cursor",
                        cameras=("front",), image_size=16)
   dm = env.unwrapped.suite_env
@@ -54,7 +54,7 @@ def test_make_gives_spaces_mirroring_specs_and_seeded_episodes():
   env.close()
 
 
-def test_time_limit_truncates_and_render_gives_rgb():
+def test_time_limit_truncates_and_render_gives_rgb(gl):
   env = ikea_suite.gym.AssemblyEnv(time_limit=0.1, render_mode="rgb_array", render_size=(24, 32))
   env.reset(seed=0)
   zero = np.zeros(env.action_space.shape)

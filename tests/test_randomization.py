@@ -10,10 +10,8 @@ from ikea_suite.arenas import presets
 from ikea_suite.tasks import cameras
 from ikea_suite.tasks import placement
 from ikea_suite.tasks import randomization
-from tests import test_cameras
 
 FURNITURE = ikea_suite.DEFAULT_FURNITURE
-gl = test_cameras.gl   # the fixture that skips rendering tests without OpenGL
 
 
 def _load(seed=0, **options):
