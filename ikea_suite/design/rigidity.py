@@ -33,10 +33,9 @@ def assemble(name, lift=0.0, **options):
   task, physics = env.task, env.physics
   spec = task.furniture.spec
   bottom = min((_corners(p) @ p.rot.T + p.pos)[:, 2].min() for p in spec.parts)
-  for part, part_spec in zip(task.furniture.parts, spec.parts):
-    part.set_pose(physics, position=part_spec.pos + [0.0, 0.0, lift - bottom + 1e-4],
-                  quaternion=geometry.mat_to_quat(part_spec.rot))
-    part.set_velocity(physics, velocity=np.zeros(3), angular_velocity=np.zeros(3))
+  for k, part_spec in enumerate(spec.parts):
+    task.furniture.set_part_pose(physics, k, part_spec.pos + [0.0, 0.0, lift - bottom + 1e-4],
+                                 geometry.mat_to_quat(part_spec.rot))
   physics.forward()
   table = task.furniture.connectors
   for pair in task.design_pairs:

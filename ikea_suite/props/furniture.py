@@ -43,6 +43,17 @@ class Furniture(composer.Entity):
 
   def after_compile(self, physics, random_state):
     self._body_ids = np.array(physics.bind(self._frames).element_id)
+    # qpos/qvel addresses of each part's free joint, so poses are written without
+    # dm_control's named indexing on the step path.
+    joints = physics.model.body_jntadr[self._body_ids]
+    self._qpos_adr = physics.model.jnt_qposadr[joints][:, None] + np.arange(7)
+    self._dof_adr = physics.model.jnt_dofadr[joints][:, None] + np.arange(6)
+
+  def set_part_pose(self, physics, part, position, quaternion):
+    """Puts part `part` (index) at a world pose and stops it; call physics.forward() after."""
+    physics.data.qpos[self._qpos_adr[part, :3]] = position
+    physics.data.qpos[self._qpos_adr[part, 3:]] = quaternion
+    physics.data.qvel[self._dof_adr[part]] = 0.0
 
   @property
   def mjcf_model(self):

@@ -250,9 +250,7 @@ class Assembly(composer.Task):
     for k in moving:
       rot[k] = delta @ rot[k]
       pos[k] = cpos[fixed_con] + delta @ (pos[k] - cpos[moving_con])
-      part = self._furniture.parts[k]
-      part.set_pose(physics, position=pos[k], quaternion=geometry.mat_to_quat(rot[k]))
-      part.set_velocity(physics, velocity=np.zeros(3), angular_velocity=np.zeros(3))
+      self._furniture.set_part_pose(physics, k, pos[k], geometry.mat_to_quat(rot[k]))
     physics.forward()
     collision = self._snap_collision(physics, moving, fixed)
     if collision:

@@ -67,9 +67,7 @@ class ScatteredParts(composer.Initializer):
       placed.append((xy, radius))
       shift = np.array([*(xy - center_xy), -corners[:, 2].min() + 1e-3])
       for (index, _, _), rot, offset in zip(item, rots, offsets):
-        part = self._furniture.parts[index]
-        part.set_pose(physics, position=offset + shift, quaternion=geometry.mat_to_quat(rot))
-        part.set_velocity(physics, velocity=np.zeros(3), angular_velocity=np.zeros(3))
+        self._furniture.set_part_pose(physics, index, offset + shift, geometry.mat_to_quat(rot))
 
   def _spec(self, index):
     return self._furniture.spec.parts[index]
