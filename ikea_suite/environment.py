@@ -30,8 +30,10 @@ class Environment(composer.Environment):
   """composer.Environment with validated, clipped actions and batched substeps.
 
   composer runs Python hooks and an observation update after every physics
-  substep. When no entity needs per-substep hooks, this class advances all
-  substeps in one `physics.step(n)` call, which is the same integration.
+  substep. When no entity needs per-substep hooks and no observable is due
+  before the last substep, this class advances all substeps in one
+  `physics.step(n)` call, which is the same integration; otherwise it runs
+  composer's loop. Either way a MuJoCo warning ends the episode with a reason.
   """
 
   def __init__(self, task, **kwargs):
@@ -78,39 +80,42 @@ class Environment(composer.Environment):
                                        for name in ("before_substep", "after_substep"))
     return self._trivial_substeps
 
-  def _advance_updater(self, substeps):
-    """Runs the observation updater over intermediate substeps.
+  def _nothing_due_before_last_substep(self):
+    """Whether no enabled observable needs an update before the control step's last
+    substep (true for the default observables, which update once per control step).
 
-    With default observables nothing is due before the last substep, so the
-    updater's counter is advanced directly (dm_control 1.0.50's updater keeps
-    it in `_step_counter`); otherwise every substep update runs as in composer.
+    Reads dm_control 1.0.50's observation updater internals (`_step_counter`,
+    `_enabled_list`); tests/test_environment_internals.py pins them.
     """
     updater = self._observation_updater
-    first_due = updater._step_counter + substeps + 1
-    if all(not e.update_schedule or e.update_schedule[0][0] >= first_due
-           for e in updater._enabled_list):
-      updater._step_counter += substeps
-    else:
-      for _ in range(substeps):
-        updater.update()
+    first_due = updater._step_counter + self._n_sub_steps
+    return all(not e.update_schedule or e.update_schedule[0][0] >= first_due
+               for e in updater._enabled_list)
 
   def step(self, action):
     if self._reset_next_step:
       return super().step(action)
     action = check_action(action, self.action_spec(), self._action_names)
-    if not self._substep_hooks_trivial():
-      return super().step(action)
     self._hooks.before_step(self._physics_proxy, action, self._random_state)
     updater = self._observation_updater
     updater.prepare_for_next_control_step()
+    # Batched: all substeps in one call when nothing needs Python between them;
+    # otherwise composer's own loop of substep hooks and observation updates.
+    batched = self._substep_hooks_trivial() and self._nothing_due_before_last_substep()
     try:
-      self._physics.step(self._n_sub_steps)
+      if batched:
+        self._physics.step(self._n_sub_steps)
+        updater._step_counter += self._n_sub_steps - 1   # the updates that had nothing due
+      else:
+        for i in range(self._n_sub_steps):
+          self._substep(action)
+          if i < self._n_sub_steps - 1:
+            updater.update()
       divergent = False
     except control.PhysicsError as e:
       divergent = True
       self._termination_reason = str(e)
       logging.warning("ikea_suite: episode ended at t=%.3f s: %s", self._physics.time(), e)
-    self._advance_updater(self._n_sub_steps - 1)
     self._hooks.after_step(self._physics_proxy, self._random_state)
     updater.update()
     if divergent:
