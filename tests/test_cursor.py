@@ -26,7 +26,7 @@ def cursor_action(env, cursor, move=(0, 0, 0), rotate=(0, 0, 0), select=False):
 
 def fly_to(env, cursor, point, select=False, steps=200):
   robot = env.task.robot
-  speed = robot._move_speed * env.control_timestep()
+  speed = robot.move_speed * env.control_timestep()
   for _ in range(steps):
     pos = robot.cursor_positions(env.physics)[cursor]
     if np.linalg.norm(point - pos) < 1e-3:
@@ -49,7 +49,7 @@ def test_move_rate_and_clipping(env):
   start = robot.cursor_positions(env.physics).copy()
   env.step(cursor_action(env, 0, move=(5.0, 0, -5.0)))   # clipped to 1 and -1
   moved = robot.cursor_positions(env.physics) - start
-  step = robot._move_speed * env.control_timestep()
+  step = robot.move_speed * env.control_timestep()
   np.testing.assert_allclose(moved[0], [step, 0, -step], atol=1e-9)
   np.testing.assert_allclose(moved[1], 0, atol=1e-12)
 
@@ -59,7 +59,7 @@ def test_rotation_rate(env):
   env.step(cursor_action(env, 1, rotate=(0, 0, 1)))
   quat = robot.cursor_quaternions(env.physics)[1]
   angle = 2 * np.arccos(np.clip(quat[0], -1, 1))
-  assert np.isclose(angle, robot._rotate_speed * env.control_timestep())
+  assert np.isclose(angle, robot.rotate_speed * env.control_timestep())
 
 
 def test_grab_lift_carry_and_release(env):

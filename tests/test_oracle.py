@@ -17,7 +17,7 @@ def test_oracle_assembles_within_time_limit(furniture, seed):
   assert summary["success"], summary
   assert summary["connections"] == len(env.task.furniture.parts) - 1
   assert summary["steps"] < round(env.time_limit / env.control_timestep())
-  assert summary["return"] == summary["connections"] + env.task._completion_bonus
+  assert summary["return"] == summary["connections"] + env.task.completion_bonus
 
 
 def test_cli_rollout_prints_a_summary(capsys):

@@ -118,7 +118,7 @@ def test_joint_position_mode_tracks_targets():
   for _ in range(40):
     timestep = env.step(action)
   arm = env.task.robot
-  low, high = arm._joint_low[0], arm._joint_high[0]
+  low, high = arm.joint_limits(0)
   expected = (low + high) / 2 + action[:7] * (high - low) / 2
   np.testing.assert_allclose(timestep.observation["sawyer/joint_positions"], expected, atol=0.02)
 

@@ -66,7 +66,7 @@ def test_thresholds_are_options():
 
 def test_robot_options_reach_the_robot():
   env = ikea_suite.load(seed=0, move_speed=0.25)
-  assert env.task.robot._move_speed == 0.25
+  assert env.task.robot.move_speed == 0.25
 
 
 def test_time_limit_scales_with_the_part_count():
@@ -121,12 +121,12 @@ def test_an_ik_failure_holds_the_arm_still(monkeypatch):
     env.step(np.zeros(env.action_spec().shape))
   failed = type("NoSolution", (), {"found": False, "x": None})()
   monkeypatch.setattr(ik.qpsolvers, "solve_problem", lambda *args, **kwargs: failed)
-  before = env.physics.data.qpos[robot._ik_to_qpos].copy()
+  before = robot.arm_qpos(env.physics)
   action = np.zeros(env.action_spec().shape)
   action[:3] = 1.0   # a move the IK now cannot solve
   env.step(action)
-  assert robot._ik.failures == 1
-  np.testing.assert_allclose(env.physics.data.qpos[robot._ik_to_qpos], before, atol=2e-3)
+  assert robot.ik_failures == 1
+  np.testing.assert_allclose(robot.arm_qpos(env.physics), before, atol=2e-3)
 
 
 def test_doctor_reports_versions_and_rendering(capsys):

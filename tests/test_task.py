@@ -39,7 +39,7 @@ def test_aligned_pair_connects_welds_and_rewards(env):
   assert env.task.state.same_group(top, legs[0])
   assert timestep.observation["connections"][top, legs[0]] == 1.0
   assert sum(timestep.observation["connectors_used"]) == 2
-  assert env.task._welds.active_pairs(env.physics) == [tuple(sorted((top, legs[0])))]
+  assert env.task.welded_part_pairs(env.physics) == [tuple(sorted((top, legs[0])))]
   # Joined parts stop colliding with each other, not with the rest.
   physics = env.physics
   assert not helpers.geoms_collide(physics, helpers.first_geom(env, top), helpers.first_geom(env, legs[0]))

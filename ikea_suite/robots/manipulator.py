@@ -265,6 +265,19 @@ class Manipulator(base.Robot):
 
   # -- state readers ---------------------------------------------------------------
 
+  def joint_limits(self, arm=0):
+    """(low, high) position limits (rad) of one arm's joints; unlimited joints get +-pi."""
+    return self._joint_low[arm].copy(), self._joint_high[arm].copy()
+
+  @property
+  def ik_failures(self):
+    """IK steps so far in which the QP had no solution and the arms held still."""
+    return self._ik.failures
+
+  def arm_qpos(self, physics):
+    """Joint positions of every arm joint the IK drives, in IK order."""
+    return physics.data.qpos[self._ik_to_qpos].copy()
+
   def tcp_pose(self, physics, arm=0):
     """World position and rotation matrix of an arm's tool-centre point."""
     site = self._tcp_ids[arm]

@@ -172,6 +172,20 @@ class Assembly(composer.Task):
     return self._thresholds
 
   @property
+  def connection_reward(self):
+    """Sparse reward paid for each new connection."""
+    return self._connection_reward
+
+  @property
+  def completion_bonus(self):
+    """Sparse reward paid once when the furniture is complete."""
+    return self._completion_bonus
+
+  def welded_part_pairs(self, physics):
+    """Sorted (i, j) part pairs whose weld is on."""
+    return self._welds.active_pairs(physics)
+
+  @property
   def loop_closures(self):
     """Connector pairs welded because they came to coincide, not by a connect action."""
     return tuple(self._state.closures)
