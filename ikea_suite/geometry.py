@@ -11,16 +11,6 @@ def quat_to_mat(quat):
   return out.reshape(3, 3)
 
 
-def quats_to_mats(quat):
-  """Rotation matrices (..., 3, 3) from unit quaternions (..., 4), vectorised."""
-  w, x, y, z = np.moveaxis(np.asarray(quat, dtype=float), -1, 0)
-  return np.stack([
-      np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
-      np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
-      np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
-  ], -2)
-
-
 def mat_to_quat(mat):
   """Unit quaternion (w >= 0) of one rotation matrix."""
   q = np.empty(4)
@@ -62,6 +52,14 @@ def mat_to_axis_angle(mat):
     return axis / np.linalg.norm(axis) * angle
   axis = np.array([m[2, 1] - m[1, 2], m[0, 2] - m[2, 0], m[1, 0] - m[0, 1]])
   return axis / (2 * np.sin(angle)) * angle
+
+
+_CORNERS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=bool)
+
+
+def box_corners(low, high):
+  """(8, 3) corners of the axis-aligned box from `low` to `high`."""
+  return np.where(_CORNERS, np.asarray(high, float), np.asarray(low, float))
 
 
 def rot_z(angle):

@@ -64,10 +64,7 @@ class _Scene:
     self.bounds = [self._world_box(i, spec.parts[i]) for i in range(len(spec.parts))]
 
   def _world_box(self, i, part):
-    lo, hi = part.bounds
-    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
-                        for z in (lo[2], hi[2])])
-    return corners @ part.rot.T + part.pos + self.lift
+    return part.assembled_corners() + self.lift
 
   def place(self, present):
     for i, adr in enumerate(self.qadr):

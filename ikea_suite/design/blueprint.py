@@ -94,6 +94,4 @@ def rot_y(angle):
   return np.array([[c, 0, s], [0, 1.0, 0], [-s, 0, c]])
 
 
-def rot_z(angle):
-  c, s = math.cos(angle), math.sin(angle)
-  return np.array([[c, -s, 0.0], [s, c, 0], [0, 0, 1.0]])
+rot_z = geometry.rot_z   # one definition, re-exported for the family code

@@ -32,7 +32,7 @@ def assemble(name, lift=0.0, **options):
   env.reset()
   task, physics = env.task, env.physics
   spec = task.furniture.spec
-  bottom = min((_corners(p) @ p.rot.T + p.pos)[:, 2].min() for p in spec.parts)
+  bottom = min(p.assembled_corners()[:, 2].min() for p in spec.parts)
   for k, part_spec in enumerate(spec.parts):
     task.furniture.set_part_pose(physics, k, part_spec.pos + [0.0, 0.0, lift - bottom + 1e-4],
                                  geometry.mat_to_quat(part_spec.rot))
@@ -48,11 +48,6 @@ def assemble(name, lift=0.0, **options):
   return env
 
 
-def _corners(part_spec):
-  lo, hi = part_spec.bounds
-  return np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
-
-
 def _relative(pos, rot, root):
   """Every part's pose in the root part's frame."""
   return np.einsum("ji,nj->ni", rot[root], pos - pos[root]), np.einsum("ji,njk->nik", rot[root], rot)
@@ -66,7 +61,7 @@ def measure(env, seconds, between_steps=None):
   spec, root = task.furniture.spec, task.root_part
   pos0, rot0 = (np.array(x) for x in task.furniture.part_poses(physics))
   rel_pos0, rel_rot0 = _relative(pos0, rot0, root)
-  corners = [_corners(p) for p in spec.parts]
+  corners = [geometry.box_corners(*p.bounds) for p in spec.parts]
   deformation = np.zeros(len(spec.parts))
   substeps = int(round(env.control_timestep() / physics.timestep()))
   for step in range(int(round(seconds / env.control_timestep()))):

@@ -48,9 +48,7 @@ def assembly_circle(physics, furniture, root):
   rotation, translation = design_to_world(physics, furniture, root)
   corners = []
   for p in furniture.spec.parts:
-    lo, hi = p.bounds
-    box = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
-    corners.append((box @ p.rot.T + p.pos) @ rotation.T + translation)
+    corners.append(p.assembled_corners() @ rotation.T + translation)
   corners = np.concatenate(corners)[:, :2]
   centre = (corners.min(0) + corners.max(0)) / 2
   return centre, float(np.linalg.norm(corners - centre, axis=1).max())

@@ -9,6 +9,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from ikea_suite import geometry
 from ikea_suite.assembly import mating
 
 
@@ -43,6 +44,10 @@ class PartSpec:
   bounds: np.ndarray         # (2, 3) axis-aligned bounds of its collision geoms, part frame
   mass: float = 0.0          # kg, as MuJoCo compiles it (the body's <inertial> when it has one)
 
+  def assembled_corners(self):
+    """(8, 3) corners of its collision bounds in the assembled (furniture) frame."""
+    return geometry.box_corners(*self.bounds) @ self.rot.T + self.pos
+
 
 @dataclasses.dataclass(frozen=True)
 class FurnitureSpec:
@@ -62,13 +67,7 @@ class FurnitureSpec:
 
   def extents(self):
     """(3,) size in metres of the assembled furniture's axis-aligned box (collision geoms)."""
-    corners = []
-    for p in self.parts:
-      lo, hi = p.bounds
-      box = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
-                      for z in (lo[2], hi[2])])
-      corners.append(box @ p.rot.T + p.pos)
-    corners = np.concatenate(corners)
+    corners = np.concatenate([p.assembled_corners() for p in self.parts])
     return corners.max(0) - corners.min(0)
 
   def part_index(self, name):

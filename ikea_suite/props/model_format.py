@@ -89,8 +89,7 @@ def _collision_bounds(model, body_id, path, label):
   corners = []
   for g in geom_ids:
     center, half = model.geom_aabb[g, :3], model.geom_aabb[g, 3:]
-    signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
-    local = center + signs * half
+    local = geometry.box_corners(center - half, center + half)
     rot = geometry.quat_to_mat(model.geom_quat[g])
     corners.append(local @ rot.T + model.geom_pos[g])
   corners = np.concatenate(corners)

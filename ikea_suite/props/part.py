@@ -47,7 +47,6 @@ class Part(composer.Entity):
     self._spec = spec
     inertial = spec.element.find("inertial")
     self._inertial = dict(inertial.attrib) if inertial is not None else None
-    self._sites = {s.name: s for s in self._mjcf_root.worldbody.find_all("site")}
 
   @property
   def mjcf_model(self):
@@ -62,9 +61,6 @@ class Part(composer.Entity):
     """The attributes of the part's <inertial> in its file (mass, pos, fullinertia, ...),
     or None when the file leaves inertia to its geoms."""
     return None if self._inertial is None else dict(self._inertial)
-
-  def site(self, name):
-    return self._sites[name]
 
   @property
   def geoms(self):

@@ -96,10 +96,6 @@ class CameraRig(composer.Entity):
     return self._mjcf_root
 
   @property
-  def camera_names(self):
-    return tuple(self._elements)
-
-  @property
   def image_kinds(self):
     return self._kinds
 

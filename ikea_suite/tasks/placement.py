@@ -12,11 +12,6 @@ _LIE_FLAT = {0: np.array([[0.0, 0, -1], [0, 1, 0], [1, 0, 0]]),   # part x axis 
              2: np.eye(3)}
 
 
-def _corners(bounds):
-  lo, hi = bounds
-  return np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
-
-
 def resting_rotation(bounds):
   """Rotation laying a part on its largest face: its thinnest extent becomes vertical."""
   return _LIE_FLAT[int(np.argmin(bounds[1] - bounds[0]))]
@@ -24,8 +19,7 @@ def resting_rotation(bounds):
 
 def assembled_radius(spec):
   """Horizontal radius of the assembled furniture around the origin."""
-  return max(np.linalg.norm((_corners(p.bounds) @ p.rot.T + p.pos)[:, :2], axis=1).max()
-             for p in spec.parts)
+  return max(np.linalg.norm(p.assembled_corners()[:, :2], axis=1).max() for p in spec.parts)
 
 
 class ScatteredParts(composer.Initializer):
@@ -59,7 +53,7 @@ class ScatteredParts(composer.Initializer):
       yaw_rot = geometry.rot_z(self._yaw(random_state=random_state))
       rots = [yaw_rot @ rot for _, rot, _ in item]
       offsets = [yaw_rot @ pos for _, _, pos in item]
-      corners = np.concatenate([_corners(self._spec(i).bounds) @ rot.T + offset
+      corners = np.concatenate([geometry.box_corners(*self._spec(i).bounds) @ rot.T + offset
                                 for (i, _, _), rot, offset in zip(item, rots, offsets)])
       center_xy = (corners[:, :2].max(0) + corners[:, :2].min(0)) / 2
       radius = np.linalg.norm(corners[:, :2] - center_xy, axis=1).max()
@@ -83,7 +77,7 @@ class ScatteredParts(composer.Initializer):
       else:
         items.append([(i, self._spec(i).rot, self._spec(i).pos) for i in group])
     def extent(item):
-      return np.ptp(np.concatenate([_corners(self._spec(i).bounds) @ rot.T + pos
+      return np.ptp(np.concatenate([geometry.box_corners(*self._spec(i).bounds) @ rot.T + pos
                                     for i, rot, pos in item]), axis=0).max()
     return sorted(items, key=lambda item: -extent(item))
 

@@ -27,6 +27,7 @@ import numpy as np
 import trimesh
 
 from ikea_suite import errors
+from ikea_suite import geometry
 from ikea_suite.design import blueprint as bp
 from ikea_suite.design import construction
 from ikea_suite.design import materials
@@ -99,7 +100,7 @@ def _primitive_corners(kind, size):
   r = size[0]
   half = {"box": size[:3], "sphere": [r, r, r], "cylinder": [r, r, size[1]],
           "capsule": [r, r, size[1] + r]}.get(kind, size[:3])
-  return np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * half
+  return geometry.box_corners(-np.asarray(half, float), half)
 
 
 class _Converter:
