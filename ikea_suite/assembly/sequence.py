@@ -21,6 +21,7 @@ import numpy as np
 
 from ikea_suite import errors
 from ikea_suite import physics_settings
+from ikea_suite.assembly import graph
 from ikea_suite.props import model_format
 
 PENETRATION = 0.001    # metres of overlap that count as a collision
@@ -98,21 +99,6 @@ class _Scene:
     return max((rest @ direction).max() - (own @ direction).min(), 0.0) + MARGIN
 
 
-def _connected(nodes, edges):
-  nodes = set(nodes)
-  if not nodes:
-    return True
-  seen, todo = set(), [next(iter(nodes))]
-  while todo:
-    n = todo.pop()
-    if n in seen:
-      continue
-    seen.add(n)
-    todo += [b for a, b in edges if a == n and b in nodes] + [a for a, b in edges
-                                                                if b == n and a in nodes]
-  return seen == nodes
-
-
 def _exit_path(scene, part, present):
   """Waypoints (offsets, farthest first) along which `part` leaves the present parts, or None.
 
@@ -171,7 +157,7 @@ def _next_removal(scene, present, root, edges):
   assembly it goes in last, into open space), then any that just fits."""
   # Among equals, parts with more neighbours leave first: they close the others in.
   order = sorted(present - {root}, key=lambda p: (-sum(p in e for e in edges), -p))
-  order = [p for p in order if _connected(present - {p}, edges)]
+  order = [p for p in order if graph.connected(present - {p}, edges)]
   for air in (LOOSE, CLEARANCE):
     scene.air = air
     for part in order:

@@ -25,6 +25,7 @@ import numpy as np
 
 from ikea_suite import errors
 from ikea_suite import physics_settings
+from ikea_suite.assembly import graph
 from ikea_suite.design import rigidity
 from ikea_suite.props import catalog
 from ikea_suite.props import model_format
@@ -43,22 +44,6 @@ class Report:
   @property
   def ok(self):
     return not self.problems
-
-
-def graph_components(num_parts, pairs):
-  """Connected components (lists of part indices) of the assembly graph."""
-  parent = list(range(num_parts))
-  def find(i):
-    while parent[i] != i:
-      parent[i] = parent[parent[i]]
-      i = parent[i]
-    return i
-  for i, j in pairs:
-    parent[find(i)] = find(j)
-  groups = {}
-  for i in range(num_parts):
-    groups.setdefault(find(i), []).append(i)
-  return sorted(groups.values())
 
 
 def penetrations(model, data):
@@ -81,7 +66,7 @@ def check(path):
   except errors.ModelFormatError as e:
     return Report(name, [f"format: {e}"])
   problems = []
-  components = graph_components(len(spec.parts), model_format.coinciding_pairs(spec))
+  components = graph.components(len(spec.parts), model_format.coinciding_pairs(spec))
   if len(components) > 1:
     names = [[spec.parts[i].name for i in group] for group in components]
     problems.append(f"graph: parts fall into {len(components)} unconnected groups {names}")
