@@ -15,9 +15,8 @@ def part_pose(physics, furniture, part):
 def grasp_point(physics, furniture, part):
   """World centre of the part's largest collision geom: a point a cursor can enclose."""
   model, data = physics.model, physics.data
-  body = furniture.body_ids[part]
-  geoms = [g for g in range(model.ngeom) if model.geom_bodyid[g] == body
-           and (model.geom_contype[g] or model.geom_conaffinity[g])]
+  ids, owner = furniture.collision_geoms
+  geoms = ids[owner == part]
   g = max(geoms, key=lambda g: np.prod(model.geom_aabb[g, 3:]))
   return data.geom_xpos[g] + data.geom_xmat[g].reshape(3, 3) @ model.geom_aabb[g, :3]
 

@@ -43,6 +43,8 @@ class Furniture(composer.Entity):
 
   def after_compile(self, physics, random_state):
     self._body_ids = np.array(physics.bind(self._frames).element_id)
+    self._collision_geoms, self._collision_geom_parts = model_format.collision_geoms(
+        physics.model, self._body_ids)
     # qpos/qvel addresses of each part's free joint, so poses are written without
     # dm_control's named indexing on the step path.
     joints = physics.model.body_jntadr[self._body_ids]
@@ -84,6 +86,11 @@ class Furniture(composer.Entity):
   def body_ids(self):
     """MuJoCo body ids of the parts, valid after compilation."""
     return self._body_ids
+
+  @property
+  def collision_geoms(self):
+    """(geom ids, part index of each) of the parts' collision geoms, valid after compilation."""
+    return self._collision_geoms, self._collision_geom_parts
 
   def part_poses(self, physics):
     """World positions (n, 3) and rotation matrices (n, 3, 3) of all parts."""

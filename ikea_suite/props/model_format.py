@@ -80,11 +80,21 @@ def _compile(path):
     raise errors.ModelFormatError(path, "<mujoco>", f"plain MuJoCo cannot load it: {e}") from None
 
 
+def collision_geoms(model, body_ids):
+  """(geom ids, index into `body_ids` of each geom's body) of the collision geoms
+  (contype or conaffinity not 0) on the bodies `body_ids`, as compiled."""
+  body_ids = np.asarray(body_ids, dtype=int)
+  index = np.full(model.nbody, -1)
+  index[body_ids] = np.arange(len(body_ids))
+  owner = index[model.geom_bodyid]
+  geoms = np.flatnonzero((owner >= 0) & ((model.geom_contype != 0) | (model.geom_conaffinity != 0)))
+  return geoms, owner[geoms]
+
+
 def _collision_bounds(model, body_id, path, label):
-  """AABB, in the body frame, of the body's collision geoms (contype|conaffinity != 0)."""
-  geom_ids = [g for g in range(model.ngeom) if model.geom_bodyid[g] == body_id
-              and (model.geom_contype[g] or model.geom_conaffinity[g])]
-  if not geom_ids:
+  """AABB, in the body frame, of the body's collision geoms."""
+  geom_ids, _ = collision_geoms(model, [body_id])
+  if not len(geom_ids):
     raise errors.ModelFormatError(path, label, "part has no collision geometry")
   corners = []
   for g in geom_ids:

@@ -105,11 +105,8 @@ class Cursor(base.Robot):
     self._geom_xpos, self._geom_xmat = physics.data.geom_xpos, physics.data.geom_xmat
     self._xpos, self._xmat = physics.data.xpos, physics.data.xmat
     model = physics.model
-    part_of_body = {b: i for i, b in enumerate(self._furniture.body_ids)}
-    geoms = [g for g in range(model.ngeom) if model.geom_bodyid[g] in part_of_body
-             and (model.geom_contype[g] or model.geom_conaffinity[g])]
-    self._geom_ids = np.array(geoms)
-    self._geom_part = np.array([part_of_body[model.geom_bodyid[g]] for g in geoms])
+    self._geom_ids, self._geom_part = self._furniture.collision_geoms
+    geoms = self._geom_ids
     self._geom_center = model.geom_aabb[geoms, :3].copy()
     self._geom_half = model.geom_aabb[geoms, 3:].copy() + self._grasp_margin
 

@@ -109,7 +109,7 @@ class Assembly(composer.Task):
     self._furniture.after_compile(physics, random_state)
     physics_settings.configure_contacts(physics.model)
     self._welds.after_compile(physics)
-    self._collisions.after_compile(physics, self._furniture.body_ids)
+    self._collisions.after_compile(self._furniture)
     model = physics.model
     part_of_body = np.full(model.nbody, -1)
     part_of_body[self._furniture.body_ids] = np.arange(len(self._furniture.parts))

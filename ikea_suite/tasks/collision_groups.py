@@ -17,12 +17,8 @@ class CollisionGroups:
   def __init__(self, num_parts):
     self._num_parts = num_parts
 
-  def after_compile(self, physics, part_body_ids):
-    model = physics.model
-    part_of_body = {int(b): i for i, b in enumerate(part_body_ids)}
-    self._geoms = np.array([g for g in range(model.ngeom) if model.geom_bodyid[g] in part_of_body
-                            and (model.geom_contype[g] or model.geom_conaffinity[g])])
-    self._geom_part = np.array([part_of_body[model.geom_bodyid[g]] for g in self._geoms])
+  def after_compile(self, furniture):
+    self._geoms, self._geom_part = furniture.collision_geoms
 
   def reset(self, physics):
     self.assign(physics, np.arange(self._num_parts))
