@@ -160,14 +160,13 @@ class ArmAssemblyController:
     physics, furniture = self._env.physics, self._env.task.furniture
     table = furniture.connectors
     con_a, con_b = table.pair_a[pair], table.pair_b[pair]
-    moving_con, fixed_con = (con_a, con_b) if table.part[con_a] == moving else (con_b, con_a)
+    moving_con = con_a if table.part[con_a] == moving else con_b
     positions, rotations = furniture.part_poses(physics)
     cpos, crot = table.world_frames(positions, rotations)
-    # Aligned means R_b = R_a Rz(t): the moving frame is R_fixed Rz(-t) if it is a, Rz(t) if b.
-    sign = -1.0 if moving_con == con_a else 1.0
-    rot = crot[fixed_con] @ geometry.rot_z(sign * twist) @ table.local_rot[moving_con].T
-    pos = cpos[fixed_con] - rot @ table.local_pos[moving_con]
-    side = pos - cpos[fixed_con]
+    frame_pos, frame_rot = table.mated_frame(pair, moving_con, cpos, crot, twist)
+    rot = frame_rot @ table.local_rot[moving_con].T
+    pos = frame_pos - rot @ table.local_pos[moving_con]
+    side = pos - frame_pos
     return pos, rot, side / max(np.linalg.norm(side), 1e-6)
 
   def _plan_mating(self, moving, grip=None):

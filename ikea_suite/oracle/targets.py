@@ -82,37 +82,6 @@ def _unit(angle):
   return np.array([np.cos(angle), np.sin(angle)])
 
 
-def mating_target(physics, furniture, pair, moving_part):
-  """Pose of `moving_part` that makes the pair's connector frames coincide.
-
-  Among the allowed twists the one nearest the part's current orientation is
-  chosen. Returns (position, rotation, unit vector from the connector towards
-  the moving part's side, which is the direction to approach from).
-  """
-  table = furniture.connectors
-  con_a, con_b = table.pair_a[pair], table.pair_b[pair]
-  moving_con, fixed_con = (con_a, con_b) if table.part[con_a] == moving_part else (con_b, con_a)
-  positions, rotations = furniture.part_poses(physics)
-  cpos, crot = table.world_frames(positions, rotations)
-  any_grid = np.radians(np.arange(0, 360, 15))
-  twists = any_grid if table.any_twist[pair] else table.twist_angles[pair][table.twist_valid[pair]]
-  # Aligned means R_b = R_a Rz(t): the moving frame is R_fixed Rz(-t) if it is a, Rz(t) if b.
-  sign = -1.0 if moving_con == con_a else 1.0
-  current = rotations[moving_part]
-  best = None
-  for t in twists:
-    rot = crot[fixed_con] @ geometry.rot_z(sign * t) @ table.local_rot[moving_con].T
-    angle = np.linalg.norm(geometry.mat_to_axis_angle(rot @ current.T))
-    if best is None or angle < best[0]:
-      best = (angle, rot)
-  rot = best[1]
-  pos = cpos[fixed_con] - rot @ table.local_pos[moving_con]
-  side = pos - cpos[fixed_con]
-  norm = np.linalg.norm(side)
-  side = side / norm if norm > 1e-6 else crot[fixed_con][:, 2]
-  return pos, rot, side
-
-
 def preferred_connector(physics, furniture, part, joined):
   """The connector of `part` to connect by, among those that meet a part in `joined` when
   assembled: one on the root-most, stiffest partner (largest smallest principal inertia,

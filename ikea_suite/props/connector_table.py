@@ -2,6 +2,7 @@
 
 import numpy as np
 
+from ikea_suite import geometry
 from ikea_suite.assembly import mating
 
 
@@ -40,6 +41,17 @@ class ConnectorTable:
   @property
   def num_pairs(self):
     return len(self.pair_a)
+
+  def mated_frame(self, pair, moving_con, cpos, crot, twist):
+    """World frame (position, rotation) connector `moving_con` of candidate `pair` takes to
+    mate at `twist`, given all connectors' world frames (cpos, crot).
+
+    Mated means R_b = R_a Rz(twist): the moving frame is R_a Rz(twist) when it is b and
+    R_b Rz(-twist) when it is a, at the fixed connector's position.
+    """
+    moving_is_b = moving_con == self.pair_b[pair]
+    fixed_con = self.pair_a[pair] if moving_is_b else self.pair_b[pair]
+    return cpos[fixed_con], crot[fixed_con] @ geometry.rot_z(twist if moving_is_b else -twist)
 
   def world_frames(self, part_pos, part_rot):
     """World positions (c, 3) and rotations (c, 3, 3) of every connector."""

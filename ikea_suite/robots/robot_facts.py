@@ -32,10 +32,6 @@ def load(name):
   return json.loads(path.read_text())
 
 
-def bodies_by_name(facts):
-  return {b["name"]: b for b in facts["bodies"]}
-
-
 def actuator_limits(facts):
   """Joint name -> (low, high) of the sheet's motor or position control range."""
   return {a["joint"]: tuple(float(x) for x in a["ctrlrange"].split()) for a in facts["actuators"]}

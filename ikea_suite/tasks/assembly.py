@@ -252,18 +252,17 @@ class Assembly(composer.Task):
     pos, rot = (np.array(x) for x in self._furniture.part_poses(physics))
     cpos, crot = table.world_frames(pos, rot)
     group_a, group_b = self._state.group_members(part_a), self._state.group_members(part_b)
-    # Aligned means R_b = R_a Rz(twist); the smaller group is moved to make it exact.
+    # The smaller group is moved to make the connector frames coincide exactly.
     if len(group_b) <= len(group_a):
-      moving, fixed, moving_con, fixed_con = group_b, group_a, con_b, con_a
-      target_rot = crot[con_a] @ geometry.rot_z(twist)
+      moving, fixed, moving_con = group_b, group_a, con_b
     else:
-      moving, fixed, moving_con, fixed_con = group_a, group_b, con_a, con_b
-      target_rot = crot[con_b] @ geometry.rot_z(-twist)
+      moving, fixed, moving_con = group_a, group_b, con_a
+    target_pos, target_rot = table.mated_frame(pair, moving_con, cpos, crot, twist)
     saved_qpos, saved_qvel = physics.data.qpos.copy(), physics.data.qvel.copy()
     delta = target_rot @ crot[moving_con].T
     for k in moving:
       rot[k] = delta @ rot[k]
-      pos[k] = cpos[fixed_con] + delta @ (pos[k] - cpos[moving_con])
+      pos[k] = target_pos + delta @ (pos[k] - cpos[moving_con])
       self._furniture.set_part_pose(physics, k, pos[k], geometry.mat_to_quat(rot[k]))
     physics.forward()
     collision = self._snap_collision(physics, moving, fixed)
