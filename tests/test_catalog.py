@@ -7,7 +7,7 @@ import pytest
 
 import ikea_suite
 from ikea_suite.design import build
-from ikea_suite.design import catalog as design_catalog
+from ikea_suite.design import family_models
 from ikea_suite.design import decompose
 from ikea_suite.design import shapes
 from ikea_suite.props import catalog
@@ -122,7 +122,7 @@ def test_stale_and_extra_files_are_detected_and_rebuilt(tmp_path):
 
 def test_blueprints_are_deterministic():
   first = build.generated_files()
-  design_catalog._all.cache_clear()
+  family_models._all.cache_clear()
   assert build.generated_files() == first
 
 

@@ -12,7 +12,7 @@ import sys
 
 import tqdm
 
-from ikea_suite.design import catalog
+from ikea_suite.design import family_models
 from ikea_suite.design import mjcf_writer
 from ikea_suite.props import paths
 
@@ -20,7 +20,7 @@ from ikea_suite.props import paths
 def generated_files(progress=False):
   """Relative path -> bytes of every file of every model, in name order."""
   files = {}
-  blueprints = catalog.blueprints()
+  blueprints = family_models.blueprints()
   for furniture in tqdm.tqdm(blueprints, desc="models", unit="model", disable=not progress):
     files.update(mjcf_writer.model_files(furniture))
   return files
@@ -53,7 +53,7 @@ def main(argv=None):
   parser.add_argument("--check", action="store_true", help="fail if models/ is stale")
   args = parser.parse_args(argv)
   stale = build_all(args.out, check=args.check, progress=sys.stderr.isatty() or not args.check)
-  count = len(catalog.blueprints())
+  count = len(family_models.blueprints())
   if args.check:
     if stale:
       print(f"models/ is stale; run python -m ikea_suite.design.build. Differing files: {stale}")
