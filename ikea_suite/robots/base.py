@@ -30,3 +30,20 @@ class Robot(composer.Entity, abc.ABC):
 
   def on_parts_moved(self, physics, part_indices):
     """Called after the task snapped parts to new poses during a connection."""
+
+  def part_initializer(self, furniture, initializer):
+    """The part placement to use with this robot, given the task's; by default the task's."""
+    return initializer
+
+  @property
+  def cameras(self):
+    """Named cameras the robot carries (name -> MJCF camera), for load(cameras=...)."""
+    return {}
+
+  @abc.abstractmethod
+  def tool_positions(self, physics):
+    """(tools, 3) world positions of the robot's tools (cursors or tool-centre points)."""
+
+  @abc.abstractmethod
+  def held_parts_by_tool(self, physics, part_body_ids):
+    """(tools, parts) bool: the parts (bodies `part_body_ids`) each tool holds directly."""

@@ -119,6 +119,15 @@ class Cursor(base.Robot):
     """(2, 3) world positions of both cursors."""
     return self._qpos[self._slide_qpos]
 
+  def tool_positions(self, physics):
+    return self.cursor_positions(physics)
+
+  def held_parts_by_tool(self, physics, part_body_ids):
+    out = np.zeros((NUM_CURSORS, len(part_body_ids)), dtype=bool)
+    holding = np.flatnonzero(self._held >= 0)
+    out[holding, self._held[holding]] = True
+    return out
+
   def cursor_quaternions(self, physics):
     """(2, 4) world orientations; the ball joint sits in a world-aligned frame."""
     return self._qpos[self._ball_quat_index]

@@ -87,3 +87,42 @@ def command(open_qpos, closed_qpos, action):
 def opening(open_qpos, closed_qpos, qpos):
   """Opening in [0, 1]: 1 fully open, 0 fully closed (mean over fingers)."""
   return float(np.mean(np.clip((qpos - closed_qpos) / (open_qpos - closed_qpos), 0.0, 1.0)))
+
+
+def finger_of_body(physics, finger_body_ids):
+  """(arms, bodies) int: which finger of each arm's gripper a body belongs to, -1 for none.
+
+  A finger is the body its joint moves plus every body below it (pads are often children).
+  `finger_body_ids` lists, per arm, the body ids its finger joints move.
+  """
+  parent = physics.model.body_parentid
+  out = np.full((len(finger_body_ids), len(parent)), -1)
+  for arm, fingers in enumerate(finger_body_ids):
+    for body in range(len(parent)):
+      ancestor = body
+      while ancestor > 0 and ancestor not in fingers:
+        ancestor = parent[ancestor]
+      if ancestor > 0:
+        out[arm, body] = int(np.flatnonzero(fingers == ancestor)[0])
+  return out
+
+
+def held_by_fingers(physics, finger_table, part_body_ids):
+  """(arms, parts) bool: a part is held by an arm when it touches at least two of that
+  arm's fingers (`finger_table` from `finger_of_body`)."""
+  part_body_ids = np.asarray(part_body_ids)
+  out = np.zeros((len(finger_table), len(part_body_ids)), dtype=bool)
+  contact = physics.data.contact
+  body = physics.model.geom_bodyid
+  part_of_body = np.full(physics.model.nbody, -1)
+  part_of_body[part_body_ids] = np.arange(len(part_body_ids))
+  for arm, arm_fingers in enumerate(finger_table):
+    pairs = set()
+    for first, second in ((body[contact.geom1], body[contact.geom2]),
+                          (body[contact.geom2], body[contact.geom1])):
+      finger, part = arm_fingers[first], part_of_body[second]
+      pairs |= {(int(p), int(f)) for p, f in zip(part, finger) if p >= 0 and f >= 0}
+    for p in {p for p, _ in pairs}:
+      if len({f for q, f in pairs if q == p}) >= 2:
+        out[arm, p] = True
+  return out

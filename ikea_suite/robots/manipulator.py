@@ -213,6 +213,7 @@ class Manipulator(base.Robot):
     self._tcp_ids = np.array(bind([a.gripper.tcp_site for a in self._arms]).element_id)
     self._finger_bodies = [np.array(bind([j.parent for j in a.gripper.joints]).element_id)
                            for a in self._arms]
+    self._finger_table = grippers.finger_of_body(physics, self._finger_bodies)
     ranges = np.array([bind(a.joints).range for a in self._arms])            # (arms, joints, 2)
     limited = np.array([bind(a.joints).limited for a in self._arms]).astype(bool)
     self._joint_low = np.where(limited, ranges[..., 0], -np.pi)
@@ -303,6 +304,13 @@ class Manipulator(base.Robot):
   def tcp_positions(self, physics):
     """(arms, 3) tool-centre-point positions."""
     return physics.data.site_xpos[self._tcp_ids].copy()
+
+  def tool_positions(self, physics):
+    return self.tcp_positions(physics)
+
+  def held_parts_by_tool(self, physics, part_body_ids):
+    """A part is held by an arm whose gripper touches it with two fingers."""
+    return grippers.held_by_fingers(physics, self._finger_table, part_body_ids)
 
   def tcp_quaternions(self, physics):
     """(arms, 4) tool-centre-point orientations, w x y z."""

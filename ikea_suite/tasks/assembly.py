@@ -65,9 +65,8 @@ class Assembly(composer.Task):
     self._design_pairs = placement.design_pairs(furniture.spec, self._table)
     self.set_timesteps(control_timestep=control_timestep, physics_timestep=physics_timestep)
     robot.bind_scene(arena, furniture, self._state, self.control_timestep)
-    initializer = initializer or placement.ScatteredParts(furniture)
-    if hasattr(robot, "part_initializer"):   # a fixed-base arm keeps parts within its reach
-      initializer = robot.part_initializer(furniture, initializer)
+    # A fixed-base arm keeps parts within its reach; the Cursor takes the task's placement.
+    initializer = robot.part_initializer(furniture, initializer or placement.ScatteredParts(furniture))
     self._initializer = initializer
     self._step_reward = 0.0
     self._blocked = ()

@@ -24,7 +24,7 @@ MAX_IMAGE_SIZE = 2048
 def named_cameras(arena, robot):
   """Cameras by name: the arena's (front, top, side) and any the robot offers via `cameras`."""
   named = dict(arena.cameras)
-  for name, element in dict(getattr(robot, "cameras", None) or {}).items():
+  for name, element in robot.cameras.items():
     if name in named:
       raise errors.IkeaSuiteError(f"robot camera {name!r} clashes with an arena camera")
     named[name] = element

@@ -60,63 +60,6 @@ class StageWeights:
     return self.reach + self.grasp + self.lift + self.distance + self.angle
 
 
-def finger_of_body(physics, robot) -> np.ndarray | None:
-  """(arms, bodies) int: which finger of each arm's gripper a body belongs to, -1 for none.
-
-  A finger is the body its joint moves plus every body below it (pads are often
-  children). None for a robot that holds parts by selection (the Cursor).
-  """
-  if hasattr(robot, "held_parts"):
-    return None
-  parent = physics.model.body_parentid
-  out = np.full((len(robot.finger_body_ids), len(parent)), -1)
-  for arm, fingers in enumerate(robot.finger_body_ids):
-    for body in range(len(parent)):
-      ancestor = body
-      while ancestor > 0 and ancestor not in fingers:
-        ancestor = parent[ancestor]
-      if ancestor > 0:
-        out[arm, body] = int(np.flatnonzero(fingers == ancestor)[0])
-  return out
-
-
-def held_by_tool(physics, robot, furniture, fingers: np.ndarray | None) -> np.ndarray:
-  """(tools, parts) bool: the parts each gripper holds directly.
-
-  The Cursor holds what it selected (`held_parts`); an arm holds a part that
-  touches at least two of its gripper's fingers (`fingers` from `finger_of_body`).
-  """
-  num_parts = len(furniture.parts)
-  if fingers is None:
-    held = np.asarray(robot.held_parts)
-    out = np.zeros((len(held), num_parts), dtype=bool)
-    out[np.flatnonzero(held >= 0), held[held >= 0]] = True
-    return out
-  out = np.zeros((len(fingers), num_parts), dtype=bool)
-  contact = physics.data.contact
-  body = physics.model.geom_bodyid
-  part_of_body = np.full(physics.model.nbody, -1)
-  part_of_body[furniture.body_ids] = np.arange(num_parts)
-  # (part, finger) touching pairs, with either geom of a contact on the finger.
-  for arm, arm_fingers in enumerate(fingers):
-    pairs = set()
-    for first, second in ((body[contact.geom1], body[contact.geom2]),
-                          (body[contact.geom2], body[contact.geom1])):
-      finger, part = arm_fingers[first], part_of_body[second]
-      pairs |= {(int(p), int(f)) for p, f in zip(part, finger) if p >= 0 and f >= 0}
-    for p in {p for p, _ in pairs}:
-      if len({f for q, f in pairs if q == p}) >= 2:
-        out[arm, p] = True
-  return out
-
-
-def tool_positions(physics, robot) -> np.ndarray:
-  """(tools, 3) world positions of the cursors or the arms' tool-centre points."""
-  if hasattr(robot, "cursor_positions"):
-    return np.asarray(robot.cursor_positions(physics))
-  return np.asarray(robot.tcp_positions(physics))
-
-
 class DenseReward:
   """Computes the dense step reward of an `Assembly` task; `reset` at each episode start.
 
@@ -135,7 +78,6 @@ class DenseReward:
     self._weights = weights
     self._needed = max(len(task.furniture.parts) - 1, 1)
     self._start_height = None
-    self._fingers = None
     self._potential = 0.0
     self._was_complete = False
     self.terms = {}
@@ -143,7 +85,6 @@ class DenseReward:
   def reset(self, physics) -> None:
     """Records the parts' starting heights and the starting potential."""
     physics.forward()   # the initializer moved parts; derived positions are stale
-    self._fingers = finger_of_body(physics, self._task.robot)
     com = physics.data.xipos[self._task.furniture.body_ids]
     self._start_height = com[:, 2].copy()
     self._was_complete = self._task.state.complete
@@ -166,10 +107,10 @@ class DenseReward:
     if grows.any():
       pairs, moving = pairs[keep], moving[keep]
     scores = task.alignment(physics)
-    by_tool = held_by_tool(physics, task.robot, furniture, self._fingers)
+    by_tool = task.robot.held_parts_by_tool(physics, furniture.body_ids)
     held = np.isin(labels, labels[by_tool.any(axis=0)])[moving].astype(float)
     com = physics.data.xipos[furniture.body_ids]
-    tools = tool_positions(physics, task.robot)
+    tools = task.robot.tool_positions(physics)
     # A tool busy holding another group (the Cursor's base holding the assembly)
     # is no help in reaching the moving part, so it does not count.
     tool_group = np.where(by_tool.any(axis=1), labels[np.argmax(by_tool, axis=1)], -1)
