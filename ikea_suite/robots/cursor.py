@@ -14,14 +14,13 @@ from dm_control.composer.observation import observable
 
 from ikea_suite import geometry
 from ikea_suite import options
+from ikea_suite import physics_settings
 from ikea_suite.robots import base
 
 NUM_CURSORS = 2
 _PER_CURSOR = ("move_x", "move_y", "move_z", "rotate_x", "rotate_y", "rotate_z", "select")
 _COLORS = ((0.1, 0.4, 0.95, 0.8), (0.95, 0.3, 0.1, 0.8))
 _HOME = ((-0.4, 0.0, 0.6), (0.4, 0.0, 0.6))
-# A soft grip: the part trails the cursor smoothly instead of jerking.
-_GRIP_SOLREF = (0.02, 1.0)
 
 
 class Cursor(base.Robot):
@@ -86,7 +85,7 @@ class Cursor(base.Robot):
     self._grip_welds = [[arena.mjcf_model.equality.add(
         "weld", name=f"{self._mjcf_root.model}{i}_grip_{j}", body1="world", body2=frame,
         active=False,
-        solref=_GRIP_SOLREF) for j, frame in enumerate(furniture.part_frames)]
+        solref=physics_settings.CURSOR_GRIP_SOLREF) for j, frame in enumerate(furniture.part_frames)]
         for i in range(NUM_CURSORS)]
 
   def after_compile(self, physics, random_state):
