@@ -214,3 +214,34 @@ def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=False):
   path.parent.mkdir(parents=True, exist_ok=True)
   path.write_text(f'<mujoco model="{name}">\n  <worldbody>{"".join(bodies)}\n  </worldbody>\n</mujoco>\n')
   return path
+
+
+def bench_with_euler_rail(directory, name="bench_euler", compiler=""):
+  """A bench: two upright legs joined by a crossbar cylinder laid along y by a geom `euler`.
+
+  The original's files write such eulers in radians (their base.xml compiles with
+  angle="radian"). Read as degrees, the crossbar would stand upright through the seat.
+
+  Args:
+    compiler: an optional `<compiler .../>` element; with angle="degree" the file
+      writes the same turn as 90 degrees.
+  """
+  turn = "90" if 'angle="degree"' in compiler else "1.5707963"
+  legs = "".join(f"""
+    <body name="leg{i}" pos="0 {y} 0.2">
+      <geom name="noviz_collision_leg{i}_0" type="box" size="0.03 0.02 0.2" density="500"/>
+      <site name="leg-seat,0,180,conn_site{i}" pos="0 0 0.2" size="0.01"/>
+    </body>""" for i, y in enumerate((-0.2, 0.2)))
+  path = pathlib.Path(directory) / f"{name}.xml"
+  path.parent.mkdir(parents=True, exist_ok=True)
+  path.write_text(f"""<mujoco model="{name}">{compiler}
+  <worldbody>
+    <body name="seat" pos="0 0 0.45">
+      <geom name="noviz_collision_seat_0" type="cylinder" size="0.05 0.22" euler="{turn} 0 0" density="300"/>
+      <site name="seat-leg,0,180,conn_site1" pos="0 -0.2 -0.05" size="0.01"/>
+      <site name="seat-leg,0,180,conn_site2" pos="0 0.2 -0.05" size="0.01"/>
+    </body>{legs}
+  </worldbody>
+</mujoco>
+""")
+  return path

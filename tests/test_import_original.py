@@ -8,6 +8,7 @@ import trimesh
 import ikea_suite
 from ikea_suite import errors
 from ikea_suite.design import decompose
+from ikea_suite.design import validate
 from ikea_suite.design.original import assemble
 from ikea_suite.design.original import cli
 from ikea_suite.design.original import convert
@@ -28,6 +29,8 @@ def test_site_names_give_groups_twists_and_tag():
   assert (parsed.type, parsed.mate_type, parsed.tag) == ("leg-table", "table-leg", "1")
   assert parsed.twists_deg == (0.0, 90.0, 180.0, 270.0)
   assert names.parse("0-1,conn_site", "f.xml").twists_deg == ()   # any twist
+  assert names.parse("leg-top,,conn_site0", "f.xml").twists_deg == ()   # empty field skipped
+  assert names.parse("a-b,,90,,conn_site3", "f.xml").twists_deg == (90.0,)
   assert names.parse("a-b,-90,450,conn_site2", "f.xml").twists_deg == (90.0, 270.0)
   assert names.is_connector("a-b,conn_site2") and not names.is_connector("top_bottom_site")
 
@@ -288,3 +291,13 @@ def test_mates_that_close_loops_are_kept_and_one_that_cannot_is_dropped(tmp_path
   assert [n for n in bad.notes if "do not meet" in n] == [
       "sites '1-2,0,180,conn_site2' and '2-1,0,180,conn_site5' do not meet when the parts are "
       "assembled through their other connectors (10.0 mm apart); dropped"]
+
+
+@pytest.mark.parametrize("compiler", ["", '\n  <compiler angle="degree"/>'])
+def test_eulers_are_radians_as_in_the_originals_base_unless_the_file_says_degree(tmp_path, compiler):
+  path = original_models.bench_with_euler_rail(tmp_path, compiler=compiler)
+  seat = next(b for b in reader.read(path).bodies if b.name == "seat")
+  np.testing.assert_allclose(seat.geoms[0].rot[:, 2], [0, -1, 0], atol=1e-6)   # the bar lies along y
+  result = convert.convert(path, tmp_path / "out")
+  report = validate.check(result.path)
+  assert report.ok, report.problems
