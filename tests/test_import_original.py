@@ -301,3 +301,16 @@ def test_eulers_are_radians_as_in_the_originals_base_unless_the_file_says_degree
   result = convert.convert(path, tmp_path / "out")
   report = validate.check(result.path)
   assert report.ok, report.problems
+
+
+def test_parts_whose_sites_leave_a_gap_or_overlap_are_slid_along_the_mate_until_they_touch(tmp_path):
+  path = original_models.table(tmp_path, site_shifts={0: 0.004, 1: -0.006})
+  result = convert.convert(path, tmp_path / "out")
+  slid = {n.split("'")[1]: n for n in result.notes if " slid " in n}
+  assert set(slid) == {"leg0", "leg1"}
+  assert "to close a gap" in slid["leg0"] and "out of a 6.0 mm penetration" in slid["leg1"]
+  poses = _poses(result.path)
+  bottoms = [poses[f"leg{i}"][0][2] - original_models.LEG_HALF for i in range(4)]
+  np.testing.assert_allclose(bottoms, 0.0, atol=2e-4)   # every leg reaches the floor again
+  report = validate.check(result.path)
+  assert report.ok, report.problems

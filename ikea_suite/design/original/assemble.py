@@ -60,6 +60,7 @@ class Assembly:
   poses: dict             # body -> (pos (3,), rot (3, 3)), the root at its file pose
   connectors: list        # the matched connectors (the ones to write)
   pairs: list             # (site, site) of every mated pair kept
+  tree: list              # (parent, child) Connector of each mate placing a part, root outwards
   notes: list             # repairs: dropped sites, unified twists, dropped welds and loops
 
 
@@ -197,7 +198,7 @@ def solve(model: reader.OriginalModel) -> Assembly:
   for i, j in pairs:
     edges[connectors[i].body].append((i, j))
     edges[connectors[j].body].append((j, i))
-  poses, tree, queue = {root: file_poses[root]}, set(), collections.deque([root])
+  poses, tree, queue = {root: file_poses[root]}, {}, collections.deque([root])
   while queue:
     body = queue.popleft()
     for own, other in edges[body]:
@@ -206,7 +207,7 @@ def solve(model: reader.OriginalModel) -> Assembly:
         continue
       rel_file = file_poses[body][1].T @ file_poses[child][1]
       poses[child] = _place(poses[body], connectors[own], connectors[other], rel_file)
-      tree.add(frozenset((own, other)))
+      tree[frozenset((own, other))] = (connectors[own], connectors[other])
       queue.append(child)
   unreachable = [name for name in order if name not in poses]
   if unreachable:
@@ -230,4 +231,5 @@ def solve(model: reader.OriginalModel) -> Assembly:
   notes.extend(_weld_notes(model, {frozenset((connectors[i].body, connectors[j].body))
                                    for i, j in kept}))
   return Assembly(root, poses, [connectors[k] for pair in kept for k in pair],
-                  [(connectors[i].site, connectors[j].site) for i, j in kept], notes)
+                  [(connectors[i].site, connectors[j].site) for i, j in kept], list(tree.values()),
+                  notes)
