@@ -105,16 +105,17 @@ def table(directory, name="table_test", assembled=True, quirks=False, site_shift
   return path
 
 
-def disconnected(directory, name="shelf_broken"):
-  """Three boards where the third's only site mates a group no other part has."""
+def disconnected(directory, name="shelf_broken", bare=False):
+  """Three boards where the third's only site mates a group no other part has
+  (with `bare`, the third has no connector site at all, as some original parts have)."""
   _meshes(directory, name)
   bodies = []
   for i, (part, site) in enumerate((("a", "a-b,conn_site1"), ("b", "b-a,conn_site1"),
-                                    ("c", "c-d,0,180,conn_site1"))):
+                                    ("c", "" if bare else "c-d,0,180,conn_site1"))):
+    site_xml = f'\n      <site name="{site}" pos="0.3 0 0" size="0.01"/>' if site else ""
     bodies.append(f"""
     <body name="{part}" pos="{i * 0.7} 0 0.02">
-      <geom name="noviz_collision_{part}_0" type="box" size="0.3 0.3 0.02" density="100"/>
-      <site name="{site}" pos="0.3 0 0" size="0.01"/>
+      <geom name="noviz_collision_{part}_0" type="box" size="0.3 0.3 0.02" density="100"/>{site_xml}
     </body>""")
   path = pathlib.Path(directory) / f"{name}.xml"
   path.write_text(f'<mujoco model="{name}">\n  <worldbody>{"".join(bodies)}\n  </worldbody>\n</mujoco>\n')
@@ -183,13 +184,13 @@ def two_boards(directory, twists_a="", twists_b="", yaw_b=0.0, name="boards"):
   return path
 
 
-def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=False):
+def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=0.0):
   """Two side panels and three shelves, each shelf mating both sides: the graph has loops.
 
   Site up axes point out of the shelf ends (+-x); numbered groups as in many of
   the original's files ('0-1' mates '1-0'). With `assembled` False every part
-  sits a few centimetres from its place. With `bad_loop` the right side's top
-  shelf site sits 1 cm too high, so that mate cannot close its loop.
+  sits a few centimetres from its place. `bad_loop` (metres) raises the right
+  side's top shelf site by that much, so that mate misses when its loop closes.
   """
   left, right = "0.7071068 0 -0.7071068 0", "0.7071068 0 0.7071068 0"   # up -x, up +x
   heights = (0.1, 0.4, 0.7)
@@ -198,7 +199,7 @@ def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=False):
   bodies = []
   for s, (x, quat, inner) in enumerate(((-0.4, left, 0.01), (0.4, right, -0.01))):
     sites = "".join(f'\n      <site name="{s}-2,0,180,conn_site{k}" pos="{inner} 0 '
-                    f'{z - 0.4 + (0.01 if bad_loop and s == 1 and k == 2 else 0)}" '
+                    f'{z - 0.4 + (bad_loop if s == 1 and k == 2 else 0)}" '
                     f'quat="{quat}" size="0.01"/>' for k, z in enumerate(heights))
     dx, dy, dz = off(s + 1)
     bodies.append(f"""

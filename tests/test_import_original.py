@@ -286,11 +286,25 @@ def test_mates_that_close_loops_are_kept_and_one_that_cannot_is_dropped(tmp_path
   assert len(solved.pairs) == 6 and not solved.notes
   np.testing.assert_allclose(solved.poses["side1"][0] - solved.poses["side0"][0], [0.8, 0, 0],
                              atol=1e-9)
-  bad = assemble.solve(reader.read(original_models.bookcase(tmp_path, "bad", bad_loop=True)))
+  bad = assemble.solve(reader.read(original_models.bookcase(tmp_path, "bad", bad_loop=0.03)))
   assert len(bad.pairs) == 5
   assert [n for n in bad.notes if "do not meet" in n] == [
       "sites '1-2,0,180,conn_site2' and '2-1,0,180,conn_site5' do not meet when the parts are "
-      "assembled through their other connectors (10.0 mm apart); dropped"]
+      "assembled through their other connectors (30.0 mm apart); dropped"]
+
+
+def test_a_loop_mate_that_misses_by_a_tolerance_has_its_site_moved_onto_its_partner(tmp_path):
+  path = original_models.bookcase(tmp_path, "near", bad_loop=0.01)
+  solved = assemble.solve(reader.read(path))
+  assert len(solved.pairs) == 6
+  assert [n for n in solved.notes if "moved" in n] == [
+      "site '2-1,0,180,conn_site5' moved 10.0 mm to meet '1-2,0,180,conn_site2': the file's "
+      "sites miss each other by that much once the parts are assembled through their other "
+      "connectors"]
+  result = convert.convert(path, tmp_path / "out")
+  assert len(result.pairs) == 6
+  report = validate.check(result.path)
+  assert report.ok, report.problems
 
 
 @pytest.mark.parametrize("compiler", ["", '\n  <compiler angle="degree"/>'])
@@ -314,3 +328,12 @@ def test_parts_whose_sites_leave_a_gap_or_overlap_are_slid_along_the_mate_until_
   np.testing.assert_allclose(bottoms, 0.0, atol=2e-4)   # every leg reaches the floor again
   report = validate.check(result.path)
   assert report.ok, report.problems
+
+
+def test_parts_without_connector_sites_are_named_as_such(tmp_path):
+  path = original_models.disconnected(tmp_path, bare=True)
+  with pytest.raises(errors.ConversionError) as info:
+    convert.convert(path, tmp_path / "out")
+  assert str(info.value).endswith(
+      "parts ['c'] cannot be reached from root part 'a' through mating connectors "
+      "(parts with no connector sites: ['c'])")
