@@ -184,13 +184,15 @@ def two_boards(directory, twists_a="", twists_b="", yaw_b=0.0, name="boards"):
   return path
 
 
-def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=0.0):
+def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=0.0, poke=0.0):
   """Two side panels and three shelves, each shelf mating both sides: the graph has loops.
 
   Site up axes point out of the shelf ends (+-x); numbered groups as in many of
   the original's files ('0-1' mates '1-0'). With `assembled` False every part
   sits a few centimetres from its place. `bad_loop` (metres) raises the right
   side's top shelf site by that much, so that mate misses when its loop closes.
+  `poke` (metres) moves the middle shelf's left site that far in along the shelf,
+  so that the shelf pokes into the left side when the sites coincide.
   """
   left, right = "0.7071068 0 -0.7071068 0", "0.7071068 0 0.7071068 0"   # up -x, up +x
   heights = (0.1, 0.4, 0.7)
@@ -211,7 +213,7 @@ def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=0.0):
     bodies.append(f"""
     <body name="shelf{k}" pos="{dx} {dy} {z + dz}">
       <geom name="noviz_collision_shelf{k}_0" type="box" size="0.39 0.15 0.01" density="600"/>
-      <site name="2-0,0,180,conn_site{2 * k}" pos="-0.39 0 0" quat="{left}" size="0.01"/>
+      <site name="2-0,0,180,conn_site{2 * k}" pos="{-0.39 + (poke if k == 1 else 0)} 0 0" quat="{left}" size="0.01"/>
       <site name="2-1,0,180,conn_site{2 * k + 1}" pos="0.39 0 0" quat="{right}" size="0.01"/>
     </body>""")
   path = pathlib.Path(directory) / f"{name}.xml"

@@ -337,3 +337,13 @@ def test_parts_without_connector_sites_are_named_as_such(tmp_path):
   assert str(info.value).endswith(
       "parts ['c'] cannot be reached from root part 'a' through mating connectors "
       "(parts with no connector sites: ['c'])")
+
+
+def test_a_slide_that_opens_a_loop_moves_the_loop_site_to_meet_again(tmp_path):
+  result = convert.convert(original_models.bookcase(tmp_path, poke=0.004), tmp_path / "out")
+  assert any("shelf1" in n and "out of a 4.0 mm penetration" in n for n in result.notes)
+  assert "site '2-1_0_180_conn_site3' moved 4.0 mm to meet '1-2_0_180_conn_site1' after the slides" \
+      in result.notes
+  assert len(result.pairs) == 6
+  report = validate.check(result.path)
+  assert report.ok, report.problems

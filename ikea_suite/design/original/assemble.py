@@ -35,13 +35,14 @@ from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.design.original import names
 from ikea_suite.design.original import reader
+from ikea_suite.design.original import seat
 
 # The original's site frame has +y forward; ours +x. Both have +z up.
 Y_FORWARD_TO_X = geometry.rot_z(np.pi / 2)
 _OPPOSED_UP_COST = 0.05   # metres per unit of (1 - cos) between up axes, when matching
 _CLOSE_POS = 1e-4         # metres: a loop match is kept when its sites meet this closely
 _CLOSE_COS = 0.9999       # and their axes agree to this cosine
-_SNAP_POS = 0.015         # metres: a loop site that misses by up to this is moved onto its
+_SNAP_POS = seat.SNAP     # metres: a loop site that misses by up to this is moved onto its
                           # partner (the original connects sites within a tolerance)
 
 

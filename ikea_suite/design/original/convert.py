@@ -291,10 +291,11 @@ def convert(source: str | pathlib.Path, out_dir: str | pathlib.Path, material: s
   by_site = {c.site: c for c in solved.connectors}
   def named(a, b):
     return (part_names[by_site[a].body], site_names[a], part_names[by_site[b].body], site_names[b])
-  seat_notes = seat.seat(
+  seat_notes, dropped = seat.seat(
       furniture, [named(a.site, b.site) for a, b in solved.tree],
       [named(a, b) for a, b in solved.pairs if frozenset((a, b)) not in tree])
-  pairs = [(site_names[a], site_names[b]) for a, b in solved.pairs]
+  pairs = [(site_names[a], site_names[b]) for a, b in solved.pairs
+           if (site_names[a], site_names[b]) not in dropped]
   corners = np.concatenate([local_corners[p.name] @ p.rot.T + p.pos for p in furniture.parts])
   shift = -np.array([*(corners[:, :2].max(0) + corners[:, :2].min(0)) / 2, corners[:, 2].min()])
   for part in furniture.parts:
@@ -302,5 +303,5 @@ def convert(source: str | pathlib.Path, out_dir: str | pathlib.Path, material: s
   for body, (pos, quat) in model.initpos.items():
     furniture.metadata[f"initpos.{part_names[body]}"] = _fmt(np.concatenate([pos, quat]))
   path = mjcf_writer.write(furniture, out_dir)
-  return Converted(pathlib.Path(source), path, name, len(furniture.parts), len(solved.connectors), pairs,
+  return Converted(pathlib.Path(source), path, name, len(furniture.parts), 2 * len(pairs), pairs,
                    converter.notes + solved.notes + seat_notes)

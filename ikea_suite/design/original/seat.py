@@ -8,9 +8,11 @@ of a table 4 mm short, so that the table rocks). Along each mate of the solved
 tree, from the root outwards, the child part, with every part attached beyond
 it, slides along the mate's up axis to where it just touches its partner: out
 of a penetration of up to MAX_PUSH, or across a gap of up to MAX_GAP. The
-child's site moves with the slide, so the mate still coincides; every slide is
-reported. Parts held on both sides by a mate that closes a loop stay where the
-mates put them (a slide would pull that mate apart).
+child's site moves with the slide, so the mate still coincides; a slide that
+would push the moving parts into a third part is not made; every slide is
+reported. A mate that closes a loop and misses by up to SNAP afterwards has its
+second site moved onto the first (reported); one that misses by more is dropped
+(reported).
 """
 
 import mujoco
@@ -24,6 +26,8 @@ _TOUCH = 2e-4      # metres: parts closer than this touch
 _PRESS = 5e-4      # metres: a penetration this deep means the parts have met
 _STEP = 5e-4       # metres: scan step before bisection
 _REACH = 0.05      # metres: distances are measured up to this
+_MEET = 1e-4       # metres: loop sites this close meet
+SNAP = 0.015       # metres: a loop site that misses by up to this moves onto its partner
 
 
 class _Scene:
@@ -111,11 +115,11 @@ def seat(furniture, edges, loops):
     furniture: the Blueprint, parts at their solved assembled poses.
     edges: (parent part, parent connector, child part, child connector) names of the
       solved tree's mates, root outwards.
-    loops: (part, connector, part, connector) names of the kept mates outside the tree;
-      a part they tie to the parts beyond its own subtree is not slid.
+    loops: (part, connector, part, connector) names of the kept mates outside the tree.
 
   Returns:
-    One sentence per slide.
+    (notes, dropped): one sentence per slide, moved or dropped loop site, and the
+    (connector, connector) names of the loop mates dropped.
   """
   parts = {p.name: p for p in furniture.parts}
   children = {}
@@ -133,12 +137,15 @@ def seat(furniture, edges, loops):
     site = next(c for c in part.connectors if c.name == child_site)
     axis = part.rot @ site.rot[:, 2]
     moving = subtree(child)
-    if any((a in moving) != (b in moving) for a, _, b, _ in loops):
-      continue   # a mate that closes a loop holds these parts where they are
     shift, start = _slide(scene, parent, moving, axis)
     if shift == 0.0:
       continue
+    others = [name for name in parts if name not in moving and name != parent]
+    before = _clearance(scene, moving, others)
     scene.move(moving, shift * axis)
+    if _clearance(scene, moving, others) < min(before, 0.0) - _TOUCH:
+      scene.move(moving, -shift * axis)   # the slide would push into another part
+      continue
     for name in moving:
       parts[name].pos = parts[name].pos + shift * axis
     site.pos = site.pos - shift * site.rot[:, 2]
@@ -146,4 +153,27 @@ def seat(furniture, edges, loops):
            else "to close a gap")
     notes.append(f"part {child!r} slid {abs(shift) * 1000:.1f} mm along the up axis of site "
                  f"{child_site!r} to touch {parent!r} ({how}); the site moved with it")
-  return notes
+  dropped = []
+  for part_a, site_a, part_b, site_b in loops:
+    a = next(c for c in parts[part_a].connectors if c.name == site_a)
+    b = next(c for c in parts[part_b].connectors if c.name == site_b)
+    world_a = parts[part_a].pos + parts[part_a].rot @ a.pos
+    gap = float(np.linalg.norm(world_a - parts[part_b].pos - parts[part_b].rot @ b.pos))
+    if gap <= _MEET:
+      continue
+    if gap <= SNAP:
+      b.pos = parts[part_b].rot.T @ (world_a - parts[part_b].pos)
+      notes.append(f"site {site_b!r} moved {gap * 1000:.1f} mm to meet {site_a!r} after the "
+                   "slides")
+      continue
+    parts[part_a].connectors.remove(a)
+    parts[part_b].connectors.remove(b)
+    dropped.append((site_a, site_b))
+    notes.append(f"sites {site_a!r} and {site_b!r} are {gap * 1000:.1f} mm apart after the "
+                 "slides; dropped")
+  return notes, dropped
+
+
+def _clearance(scene, moving, others):
+  """Least signed distance between the moving parts and the others (m)."""
+  return min((scene.distance(a, b) for a in moving for b in others), default=_REACH)
