@@ -251,3 +251,32 @@ def bench_with_euler_rail(directory, name="bench_euler", compiler=""):
 </mujoco>
 """)
   return path
+
+
+def post_over_shim(directory, name="post_shim"):
+  """A base board carrying a 2 mm shim and a post whose site leaves a 3 mm gap to the base.
+
+  The post stands over the shim, so sliding it the 3 mm down to the base would push it
+  2 mm into the shim (a third part).
+  """
+  path = pathlib.Path(directory) / f"{name}.xml"
+  path.parent.mkdir(parents=True, exist_ok=True)
+  path.write_text(f"""<mujoco model="{name}">
+  <worldbody>
+    <body name="base" pos="0 0 0.02">
+      <geom name="noviz_collision_base_0" type="box" size="0.2 0.2 0.02" density="500"/>
+      <site name="base-post,conn_site1" pos="0 0 0.02" size="0.01"/>
+      <site name="base-shim,conn_site2" pos="0 0 0.02" size="0.01"/>
+    </body>
+    <body name="shim" pos="0 0 0.041">
+      <geom name="noviz_collision_shim_0" type="box" size="0.05 0.05 0.001" density="500"/>
+      <site name="shim-base,conn_site1" pos="0 0 -0.001" size="0.01"/>
+    </body>
+    <body name="post" pos="0 0 0.143">
+      <geom name="noviz_collision_post_0" type="box" size="0.02 0.02 0.1" density="500"/>
+      <site name="post-base,conn_site1" pos="0 0 -0.103" size="0.01"/>
+    </body>
+  </worldbody>
+</mujoco>
+""")
+  return path

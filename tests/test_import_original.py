@@ -347,3 +347,11 @@ def test_a_slide_that_opens_a_loop_moves_the_loop_site_to_meet_again(tmp_path):
   assert len(result.pairs) == 6
   report = validate.check(result.path)
   assert report.ok, report.problems
+
+
+def test_a_slide_that_would_push_into_a_third_part_is_not_made(tmp_path):
+  result = convert.convert(original_models.post_over_shim(tmp_path), tmp_path / "out")
+  assert not [n for n in result.notes if " slid " in n]
+  poses = _poses(result.path)
+  gap = (poses["post"][0][2] - 0.1) - (poses["shim"][0][2] + 0.001)
+  np.testing.assert_allclose(gap, 0.001, atol=1e-6)   # still 1 mm over the shim
