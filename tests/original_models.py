@@ -27,17 +27,17 @@ def _meshes(directory, name):
   trimesh.creation.box(extents=(1, 1, 1)).export(folder / "unit.stl")      # scaled per axis
 
 
-def _leg(i, pos, quat="1 0 0 0", extra_site=""):
+def _leg(i, pos, quat="1 0 0 0", extra_site="", site_shift=0.0):
   return f"""
     <body name="leg{i}" pos="{pos}" quat="{quat}">
       <geom name="leg{i}_mesh" type="mesh" mesh="leg" material="wood" contype="0" conaffinity="0" density="0"/>
       <geom name="noviz_collision_leg{i}_0" type="box" size="0.02 0.02 0.2" rgba="0 0 0 0" density="500"/>
-      <site name="leg-table,0,90,180,270,conn_site{i}" pos="0 0 {LEG_HALF}" quat="{DOWN}" size="0.01"/>
+      <site name="leg-table,0,90,180,270,conn_site{i}" pos="0 0 {LEG_HALF + site_shift}" quat="{DOWN}" size="0.01"/>
       <site name="leg{i}_bottom_site" pos="0 0 -{LEG_HALF}" size="0.01"/>{extra_site}
     </body>"""
 
 
-def table(directory, name="table_test", assembled=True, quirks=False):
+def table(directory, name="table_test", assembled=True, quirks=False, site_shifts=None):
   """A 55 cm side table: a top and four legs, each leg mating any corner of the top.
 
   Args:
@@ -47,6 +47,9 @@ def table(directory, name="table_test", assembled=True, quirks=False):
       shifted, as some of the original's files are.
     quirks: adds a non-normalised body and site quaternion, comma-written rgba,
       duplicate and dead welds, a connector site with no partner and initpos data.
+    site_shifts: {leg index: metres} moves those legs' connector sites along the leg
+      (up: the leg stops short of the top, a gap; down: it pokes into the top), as
+      the original's files sometimes place them.
 
   Returns:
     The XML path.
@@ -67,7 +70,7 @@ def table(directory, name="table_test", assembled=True, quirks=False):
       pos = f"{x * 1.4 + 0.03 * i} {y * 1.2} {LEG_HALF + 0.02 * i}"
       quat = "0 1 0 0" if i == 2 else "0.9962 0 0 0.0872"
     extra = '\n      <site name="leg-shelf,conn_site9" pos="0 0 0" size="0.01"/>' if quirks and i == 3 else ""
-    legs.append(_leg(i, pos, quat, extra))
+    legs.append(_leg(i, pos, quat, extra, (site_shifts or {}).get(i, 0.0)))
   welds = ""
   if quirks:
     welds = """
@@ -102,16 +105,17 @@ def table(directory, name="table_test", assembled=True, quirks=False):
   return path
 
 
-def disconnected(directory, name="shelf_broken"):
-  """Three boards where the third's only site mates a group no other part has."""
+def disconnected(directory, name="shelf_broken", bare=False):
+  """Three boards where the third's only site mates a group no other part has
+  (with `bare`, the third has no connector site at all, as some original parts have)."""
   _meshes(directory, name)
   bodies = []
   for i, (part, site) in enumerate((("a", "a-b,conn_site1"), ("b", "b-a,conn_site1"),
-                                    ("c", "c-d,0,180,conn_site1"))):
+                                    ("c", "" if bare else "c-d,0,180,conn_site1"))):
+    site_xml = f'\n      <site name="{site}" pos="0.3 0 0" size="0.01"/>' if site else ""
     bodies.append(f"""
     <body name="{part}" pos="{i * 0.7} 0 0.02">
-      <geom name="noviz_collision_{part}_0" type="box" size="0.3 0.3 0.02" density="100"/>
-      <site name="{site}" pos="0.3 0 0" size="0.01"/>
+      <geom name="noviz_collision_{part}_0" type="box" size="0.3 0.3 0.02" density="100"/>{site_xml}
     </body>""")
   path = pathlib.Path(directory) / f"{name}.xml"
   path.write_text(f'<mujoco model="{name}">\n  <worldbody>{"".join(bodies)}\n  </worldbody>\n</mujoco>\n')
@@ -180,13 +184,15 @@ def two_boards(directory, twists_a="", twists_b="", yaw_b=0.0, name="boards"):
   return path
 
 
-def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=False):
+def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=0.0, poke=0.0):
   """Two side panels and three shelves, each shelf mating both sides: the graph has loops.
 
   Site up axes point out of the shelf ends (+-x); numbered groups as in many of
   the original's files ('0-1' mates '1-0'). With `assembled` False every part
-  sits a few centimetres from its place. With `bad_loop` the right side's top
-  shelf site sits 1 cm too high, so that mate cannot close its loop.
+  sits a few centimetres from its place. `bad_loop` (metres) raises the right
+  side's top shelf site by that much, so that mate misses when its loop closes.
+  `poke` (metres) moves the middle shelf's left site that far in along the shelf,
+  so that the shelf pokes into the left side when the sites coincide.
   """
   left, right = "0.7071068 0 -0.7071068 0", "0.7071068 0 0.7071068 0"   # up -x, up +x
   heights = (0.1, 0.4, 0.7)
@@ -195,7 +201,7 @@ def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=False):
   bodies = []
   for s, (x, quat, inner) in enumerate(((-0.4, left, 0.01), (0.4, right, -0.01))):
     sites = "".join(f'\n      <site name="{s}-2,0,180,conn_site{k}" pos="{inner} 0 '
-                    f'{z - 0.4 + (0.01 if bad_loop and s == 1 and k == 2 else 0)}" '
+                    f'{z - 0.4 + (bad_loop if s == 1 and k == 2 else 0)}" '
                     f'quat="{quat}" size="0.01"/>' for k, z in enumerate(heights))
     dx, dy, dz = off(s + 1)
     bodies.append(f"""
@@ -207,10 +213,70 @@ def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=False):
     bodies.append(f"""
     <body name="shelf{k}" pos="{dx} {dy} {z + dz}">
       <geom name="noviz_collision_shelf{k}_0" type="box" size="0.39 0.15 0.01" density="600"/>
-      <site name="2-0,0,180,conn_site{2 * k}" pos="-0.39 0 0" quat="{left}" size="0.01"/>
+      <site name="2-0,0,180,conn_site{2 * k}" pos="{-0.39 + (poke if k == 1 else 0)} 0 0" quat="{left}" size="0.01"/>
       <site name="2-1,0,180,conn_site{2 * k + 1}" pos="0.39 0 0" quat="{right}" size="0.01"/>
     </body>""")
   path = pathlib.Path(directory) / f"{name}.xml"
   path.parent.mkdir(parents=True, exist_ok=True)
   path.write_text(f'<mujoco model="{name}">\n  <worldbody>{"".join(bodies)}\n  </worldbody>\n</mujoco>\n')
+  return path
+
+
+def bench_with_euler_rail(directory, name="bench_euler", compiler=""):
+  """A bench: two upright legs joined by a crossbar cylinder laid along y by a geom `euler`.
+
+  The original's files write such eulers in radians (their base.xml compiles with
+  angle="radian"). Read as degrees, the crossbar would stand upright through the seat.
+
+  Args:
+    compiler: an optional `<compiler .../>` element; with angle="degree" the file
+      writes the same turn as 90 degrees.
+  """
+  turn = "90" if 'angle="degree"' in compiler else "1.5707963"
+  legs = "".join(f"""
+    <body name="leg{i}" pos="0 {y} 0.2">
+      <geom name="noviz_collision_leg{i}_0" type="box" size="0.03 0.02 0.2" density="500"/>
+      <site name="leg-seat,0,180,conn_site{i}" pos="0 0 0.2" size="0.01"/>
+    </body>""" for i, y in enumerate((-0.2, 0.2)))
+  path = pathlib.Path(directory) / f"{name}.xml"
+  path.parent.mkdir(parents=True, exist_ok=True)
+  path.write_text(f"""<mujoco model="{name}">{compiler}
+  <worldbody>
+    <body name="seat" pos="0 0 0.45">
+      <geom name="noviz_collision_seat_0" type="cylinder" size="0.05 0.22" euler="{turn} 0 0" density="300"/>
+      <site name="seat-leg,0,180,conn_site1" pos="0 -0.2 -0.05" size="0.01"/>
+      <site name="seat-leg,0,180,conn_site2" pos="0 0.2 -0.05" size="0.01"/>
+    </body>{legs}
+  </worldbody>
+</mujoco>
+""")
+  return path
+
+
+def post_over_shim(directory, name="post_shim"):
+  """A base board carrying a 2 mm shim and a post whose site leaves a 3 mm gap to the base.
+
+  The post stands over the shim, so sliding it the 3 mm down to the base would push it
+  2 mm into the shim (a third part).
+  """
+  path = pathlib.Path(directory) / f"{name}.xml"
+  path.parent.mkdir(parents=True, exist_ok=True)
+  path.write_text(f"""<mujoco model="{name}">
+  <worldbody>
+    <body name="base" pos="0 0 0.02">
+      <geom name="noviz_collision_base_0" type="box" size="0.2 0.2 0.02" density="500"/>
+      <site name="base-post,conn_site1" pos="0 0 0.02" size="0.01"/>
+      <site name="base-shim,conn_site2" pos="0 0 0.02" size="0.01"/>
+    </body>
+    <body name="shim" pos="0 0 0.041">
+      <geom name="noviz_collision_shim_0" type="box" size="0.05 0.05 0.001" density="500"/>
+      <site name="shim-base,conn_site1" pos="0 0 -0.001" size="0.01"/>
+    </body>
+    <body name="post" pos="0 0 0.143">
+      <geom name="noviz_collision_post_0" type="box" size="0.02 0.02 0.1" density="500"/>
+      <site name="post-base,conn_site1" pos="0 0 -0.103" size="0.01"/>
+    </body>
+  </worldbody>
+</mujoco>
+""")
   return path

@@ -16,8 +16,10 @@ is derived from the connector frames alone:
    breadth-first: each new part is placed so that its site coincides with
    its partner, up axes equal and forwards one allowed twist apart (the twist
    closest to the file's relative orientation).
-4. Matches that close a loop are kept when they coincide within 0.1 mm and
-   dropped (reported) when not.
+4. Matches that close a loop are kept when they coincide within 0.1 mm;
+   when their frames agree but they miss by up to 15 mm (the original
+   connects sites within a tolerance), the second site is moved onto the
+   first (reported); otherwise they are dropped (reported).
 
 Sites left without a partner are dropped and reported; parts that cannot be
 reached from the root make the model unconvertible (ConversionError naming
@@ -33,12 +35,15 @@ from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.design.original import names
 from ikea_suite.design.original import reader
+from ikea_suite.design.original import seat
 
 # The original's site frame has +y forward; ours +x. Both have +z up.
 Y_FORWARD_TO_X = geometry.rot_z(np.pi / 2)
 _OPPOSED_UP_COST = 0.05   # metres per unit of (1 - cos) between up axes, when matching
 _CLOSE_POS = 1e-4         # metres: a loop match is kept when its sites meet this closely
 _CLOSE_COS = 0.9999       # and their axes agree to this cosine
+_SNAP_POS = seat.SNAP     # metres: a loop site that misses by up to this is moved onto its
+                          # partner (the original connects sites within a tolerance)
 
 
 @dataclasses.dataclass
@@ -60,6 +65,7 @@ class Assembly:
   poses: dict             # body -> (pos (3,), rot (3, 3)), the root at its file pose
   connectors: list        # the matched connectors (the ones to write)
   pairs: list             # (site, site) of every mated pair kept
+  tree: list              # (parent, child) Connector of each mate placing a part, root outwards
   notes: list             # repairs: dropped sites, unified twists, dropped welds and loops
 
 
@@ -145,9 +151,16 @@ def _place(parent_pose, c_a, c_b, rel_file):
   return pos_p + rot_p @ c_a.pos - rot @ c_b.pos, rot
 
 
-def _coincide(c_a, c_b, poses):
-  (pa, ra), (pb, rb) = _world(poses[c_a.body], c_a), _world(poses[c_b.body], c_b)
-  if np.linalg.norm(pa - pb) > _CLOSE_POS or ra[:, 2] @ rb[:, 2] < _CLOSE_COS:
+def _gap(c_a, c_b, poses):
+  """Distance between two sites in the assembled poses (m)."""
+  return float(np.linalg.norm(_world(poses[c_a.body], c_a)[0] - _world(poses[c_b.body], c_b)[0]))
+
+
+def _aligned(c_a, c_b, poses):
+  """Whether two sites' frames agree in the assembled poses: up axes equal, forwards an
+  allowed twist apart."""
+  ra, rb = _world(poses[c_a.body], c_a)[1], _world(poses[c_b.body], c_b)[1]
+  if ra[:, 2] @ rb[:, 2] < _CLOSE_COS:
     return False
   if not c_a.twists_deg:
     return True
@@ -197,7 +210,7 @@ def solve(model: reader.OriginalModel) -> Assembly:
   for i, j in pairs:
     edges[connectors[i].body].append((i, j))
     edges[connectors[j].body].append((j, i))
-  poses, tree, queue = {root: file_poses[root]}, set(), collections.deque([root])
+  poses, tree, queue = {root: file_poses[root]}, {}, collections.deque([root])
   while queue:
     body = queue.popleft()
     for own, other in edges[body]:
@@ -206,28 +219,41 @@ def solve(model: reader.OriginalModel) -> Assembly:
         continue
       rel_file = file_poses[body][1].T @ file_poses[child][1]
       poses[child] = _place(poses[body], connectors[own], connectors[other], rel_file)
-      tree.add(frozenset((own, other)))
+      tree[frozenset((own, other))] = (connectors[own], connectors[other])
       queue.append(child)
   unreachable = [name for name in order if name not in poses]
   if unreachable:
     with_sites = {c.body for c in connectors}
     bare = [n for n in unreachable if n not in with_sites]
-    detail = "; ".join(unmatched) or "their connectors only mate among themselves"
+    reasons = list(unmatched)
+    if not unmatched and len(bare) < len(unreachable):
+      reasons.append("their connectors only mate among themselves")
     if bare:
-      detail += f"; parts with no connector sites: {bare}"
+      reasons.append(f"parts with no connector sites: {bare}")
+    detail = "; ".join(reasons)
     raise errors.ConversionError(
         model.path, "<worldbody>", f"parts {unreachable} cannot be reached from root part "
         f"{root!r} through mating connectors ({detail})")
   kept = []
   for i, j in pairs:
     a, b = connectors[i], connectors[j]
-    if frozenset((i, j)) in tree or _coincide(a, b, poses):
+    gap = _gap(a, b, poses)
+    if frozenset((i, j)) in tree or (gap <= _CLOSE_POS and _aligned(a, b, poses)):
       kept.append((i, j))
+    elif gap <= _SNAP_POS and _aligned(a, b, poses):
+      pos_a = _world(poses[a.body], a)[0]
+      b.pos = poses[b.body][1].T @ (pos_a - poses[b.body][0])
+      kept.append((i, j))
+      notes.append(f"site {b.site!r} moved {gap * 1000:.1f} mm to meet {a.site!r}: the file's "
+                   "sites miss each other by that much once the parts are assembled through "
+                   "their other connectors")
     else:
-      gap = np.linalg.norm(_world(poses[a.body], a)[0] - _world(poses[b.body], b)[0])
+      why = (f"{gap * 1000:.1f} mm apart" if gap > _SNAP_POS
+             else "their up axes or allowed twists disagree")
       notes.append(f"sites {a.site!r} and {b.site!r} do not meet when the parts are assembled "
-                   f"through their other connectors ({gap * 1000:.1f} mm apart); dropped")
+                   f"through their other connectors ({why}); dropped")
   notes.extend(_weld_notes(model, {frozenset((connectors[i].body, connectors[j].body))
                                    for i, j in kept}))
   return Assembly(root, poses, [connectors[k] for pair in kept for k in pair],
-                  [(connectors[i].site, connectors[j].site) for i, j in kept], notes)
+                  [(connectors[i].site, connectors[j].site) for i, j in kept], list(tree.values()),
+                  notes)

@@ -13,7 +13,8 @@ from the original's densities and masses), spread over our collision geoms
 in proportion to the original densities. With `material`, every collision
 geom takes that material's density from our material table instead.
 
-Layout: the parts take the assembled pose solved by `assemble`, set on the
+Layout: the parts take the assembled pose solved by `assemble`, each mated
+part slid along its mate's up axis until it touches its partner (`seat`), set on the
 floor (lowest collision point at z = 0) and centred. The original's initial
 layout, when the file has one, is kept in the metadata as `initpos.<part>`
 (see ikea_suite.props.layout).
@@ -36,6 +37,7 @@ from ikea_suite.design import part_geoms
 from ikea_suite.design.original import assemble
 from ikea_suite.design.original import names
 from ikea_suite.design.original import reader
+from ikea_suite.design.original import seat
 
 DEFAULT_CATEGORY = "original"
 FAMILY = "original"
@@ -273,25 +275,33 @@ def convert(source: str | pathlib.Path, out_dir: str | pathlib.Path, material: s
   name = names.safe(model.path.stem).lower()
   furniture = bp.Blueprint(name, category, FAMILY, name, f"converted from {model.path.name}")
   furniture.metadata["source"] = model.path.name
-  corners = []
+  local_corners = {}
   for body in model.bodies:
     part_name = part_names[body.name]
     geoms = converter.part_geoms(furniture, part_name, body)
     converter.set_densities(part_name, body, geoms)
     pos, rot = solved.poses[body.name]
     part = furniture.add_part(part_name, pos, rot, [g for g, _, _, _ in geoms])
-    corners += [c @ rot.T + pos for g, base, _, c in geoms if base is not None]
+    local_corners[part_name] = np.concatenate([c for g, base, _, c in geoms if base is not None])
     for c in solved.connectors:
       if c.body == body.name:
         part.connectors.append(bp.Connector(site_names[c.site], c.pos, c.rot, c.type, c.mates,
                                             c.twists_deg))
-  corners = np.concatenate(corners)
+  tree = {frozenset((a.site, b.site)) for a, b in solved.tree}
+  by_site = {c.site: c for c in solved.connectors}
+  def named(a, b):
+    return (part_names[by_site[a].body], site_names[a], part_names[by_site[b].body], site_names[b])
+  seat_notes, dropped = seat.seat(
+      furniture, [named(a.site, b.site) for a, b in solved.tree],
+      [named(a, b) for a, b in solved.pairs if frozenset((a, b)) not in tree])
+  pairs = [(site_names[a], site_names[b]) for a, b in solved.pairs
+           if (site_names[a], site_names[b]) not in dropped]
+  corners = np.concatenate([local_corners[p.name] @ p.rot.T + p.pos for p in furniture.parts])
   shift = -np.array([*(corners[:, :2].max(0) + corners[:, :2].min(0)) / 2, corners[:, 2].min()])
   for part in furniture.parts:
     part.pos = part.pos + shift
   for body, (pos, quat) in model.initpos.items():
     furniture.metadata[f"initpos.{part_names[body]}"] = _fmt(np.concatenate([pos, quat]))
   path = mjcf_writer.write(furniture, out_dir)
-  return Converted(pathlib.Path(source), path, name, len(furniture.parts), len(solved.connectors),
-                   [(site_names[a], site_names[b]) for a, b in solved.pairs],
-                   converter.notes + solved.notes)
+  return Converted(pathlib.Path(source), path, name, len(furniture.parts), 2 * len(pairs), pairs,
+                   converter.notes + solved.notes + seat_notes)

@@ -67,6 +67,8 @@ def parse(name: str, path: str | pathlib.Path) -> SiteName:
         path, label, f"{fields[0]!r} must be two connector groups joined by one '-'")
   twists = set()
   for field in fields[1:-1]:
+    if not field:   # 'a-b,,conn_site1': the original skips empty angle fields
+      continue
     try:
       angle = float(field)
     except ValueError:

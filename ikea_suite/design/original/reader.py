@@ -4,6 +4,8 @@ What is read (facts about the format, see the README, "Bring models from the
 original environment"):
   parts      the top-level <body> elements of <worldbody>: name, pos, quat
              (not always normalised); no joints, no nested bodies;
+  orientation quat, or euler in radians (the original's base.xml sets
+             <compiler angle="radian">; a file's own compiler angle overrides);
   geoms      visual meshes (collisions off) and invisible collision primitives
              `noviz_collision_<body>_<i>` that carry the mass by their density,
              or mesh geoms that collide themselves; top-level <default> classes
@@ -93,7 +95,9 @@ class _Reader:
   def __init__(self, path):
     self.path = pathlib.Path(path)
     self.repairs = []
-    self.angle_scale = math.pi / 180.0   # MuJoCo's default compiler angle is degrees
+    # The original merges each model into its base.xml, whose <compiler angle="radian">
+    # makes every euler radians; a file's own <compiler angle=...> overrides that.
+    self.angle_scale = 1.0
 
   def error(self, element, problem):
     return errors.ConversionError(self.path, element, problem)
@@ -147,8 +151,8 @@ class _Reader:
     compiler = root.find("compiler")
     mesh_dir = self.path.parent
     if compiler is not None:
-      if compiler.get("angle", "degree") == "radian":
-        self.angle_scale = 1.0
+      if compiler.get("angle", "radian") == "degree":
+        self.angle_scale = math.pi / 180.0
       mesh_dir = mesh_dir / compiler.get("meshdir", compiler.get("assetdir", ""))
     classes = _default_classes(root)
     worldbody = root.find("worldbody")
