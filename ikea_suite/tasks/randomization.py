@@ -9,6 +9,7 @@ name. The extra lights, floor materials and walls it needs are built only
 for the factors switched on.
 """
 
+import mujoco
 import numpy as np
 from dm_control import composer
 from dm_control import mjcf
@@ -231,6 +232,7 @@ class SceneRandomizer(composer.Entity):
       scale = random_state.uniform(*f["part_mass"], size=len(self._part_bodies))
       model.body_mass[self._part_bodies] = self._mass * scale
       model.body_inertia[self._part_bodies] = self._inertia * scale[:, None]
+      _refresh_derived_constants(physics)
     if "light_count" in f:
       count = random_state.randint(f["light_count"][0], f["light_count"][1] + 1)
       model.light_active[self._light_ids] = False
@@ -239,6 +241,20 @@ class SceneRandomizer(composer.Entity):
       model.geom_matid[self._floor_id] = self._floor_ids[random_state.randint(len(self._floor_ids))]
     if self._wall_ids:
       model.geom_matid[self._wall_geoms] = self._wall_ids[random_state.randint(len(self._wall_ids))]
+
+
+def _refresh_derived_constants(physics):
+  """Recomputes what MuJoCo derives from masses at compile time (mj_setConst: inverse
+  weights that scale every constraint's softness, subtree masses). Without it, the
+  Cursor's firm grip and the welds keep the compiled parts' weights, and a part made
+  2x lighter diverges within seconds. mj_setConst works on the data at qpos0, so the
+  episode's state is kept aside and put back."""
+  data = physics.data
+  saved = {name: getattr(data, name).copy() for name in ("qpos", "qvel", "act", "ctrl",
+                                                          "eq_active", "mocap_pos", "mocap_quat")}
+  mujoco.mj_setConst(physics.model.ptr, data.ptr)
+  for name, value in saved.items():
+    getattr(data, name)[:] = value
 
 
 OPTIONS = ("randomize",)
