@@ -258,6 +258,9 @@ def load(furniture="table_four_leg_lack", impl=None, num_worlds=None, **options)
   Returns:
     A BatchAssembly.
   """
+  impl = backend.check_impl(impl)
+  if impl == "jax":
+    num_worlds = None   # only Warp sizes buffers by it; one cached env serves every size
   key = tuple(sorted((k, tuple(map(tuple, v)) if k == "workspace" else v)
                      for k, v in options.items()))
   return _cached(furniture, impl, num_worlds, key)
