@@ -1,7 +1,7 @@
 """ikea_suite.batch: the assembly task for the Cursor agent in thousands of worlds with MJX.
 
     import jax, ikea_suite.batch
-    env = ikea_suite.batch.load("table_four_leg_lack")
+    env = ikea_suite.batch.load("table_four_leg_lack", num_worlds=1024)
     state = env.reset_batch(jax.random.PRNGKey(0), num_worlds=1024)
     state = env.step_batch(state, actions)        # (1024, 15) in [-1, 1]
 

@@ -1,6 +1,6 @@
 """The batched assembly environment: functional reset/step in MuJoCo Playground's style.
 
-    env = ikea_suite.batch.load("table_four_leg_lack")
+    env = ikea_suite.batch.load("table_four_leg_lack", num_worlds=4096)
     state = env.reset_batch(jax.random.PRNGKey(0), num_worlds=4096)
     state = env.step_batch(state, actions)            # actions (4096, 15) in [-1, 1]
 
@@ -22,6 +22,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ikea_suite import errors
 from ikea_suite.batch import backend
 from ikea_suite.batch import connect as connect_lib
 from ikea_suite.batch import cursor as cursor_lib
@@ -73,6 +74,7 @@ class BatchAssembly:
 
   def __init__(self, furniture, impl=None, num_worlds=None, **options):
     self._impl = backend.check_impl(impl)
+    self._num_worlds = num_worlds
     self._batch_model = model_lib.build(furniture)
     with self.precision():
       self._build(num_worlds, options)
@@ -218,9 +220,10 @@ class BatchAssembly:
     obs = observe.observe(self._tables, task, data.qpos)
     fresh = self.reset(state.info["rng"])
     pick = lambda new, old: jax.tree.map(lambda x, y: jnp.where(done, x, y), new, old)
+    # Data.where knows which Warp buffers are shared by all worlds (contacts) and keeps them.
     connections = state.metrics["connections"] + connected.astype(jnp.int32)
     return State(
-        data=pick(fresh.data, data), task=pick(fresh.task, task), obs=pick(fresh.obs, obs),
+        data=data.where(done, fresh.data), task=pick(fresh.task, task), obs=pick(fresh.obs, obs),
         reward=reward, done=done,
         metrics={"connections": connections, "success": complete},
         info={"rng": jnp.where(done, fresh.info["rng"], state.info["rng"]),
@@ -231,6 +234,10 @@ class BatchAssembly:
 
   def reset_batch(self, rng, num_worlds):
     """`num_worlds` fresh worlds, each with its own key split from `rng` (jitted)."""
+    if self._impl == "warp" and (self._num_worlds is None or num_worlds > self._num_worlds):
+      raise errors.OptionValueError(
+          f"the Warp implementation sizes its contact buffer for all worlds: load with "
+          f"num_worlds >= {num_worlds} (got num_worlds={self._num_worlds})")
     with self.precision():
       return self._reset_batch(jax.random.split(rng, num_worlds))
 
