@@ -70,6 +70,14 @@ def test_episode_ends_at_the_time_limit_and_resets(env):
   assert not np.allclose(np.asarray(state.data.qpos), start)   # a fresh random placement
 
 
+def test_bad_batch_arguments_raise(env):
+  state = env.reset_batch(jax.random.PRNGKey(0), WORLDS)
+  with pytest.raises(ikea_suite.ActionError):
+    env.step_batch(state, np.zeros((WORLDS, env.action_size - 1)))
+  with pytest.raises(ikea_suite.OptionValueError):
+    env.reset_batch(jax.random.PRNGKey(0), 0)
+
+
 @pytest.mark.parametrize("options, error", [
     ({"distance_treshold": 0.02}, ikea_suite.UnknownNameError),
     ({"up_threshold": 1.5}, ikea_suite.OptionValueError),

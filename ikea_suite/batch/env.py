@@ -234,6 +234,8 @@ class BatchAssembly:
 
   def reset_batch(self, rng, num_worlds):
     """`num_worlds` fresh worlds, each with its own key split from `rng` (jitted)."""
+    if not isinstance(num_worlds, (int, np.integer)) or num_worlds < 1:
+      raise errors.OptionValueError(f"num_worlds must be an integer >= 1, got {num_worlds!r}")
     if self._impl == "warp" and (self._num_worlds is None or num_worlds > self._num_worlds):
       raise errors.OptionValueError(
           f"the Warp implementation sizes its contact buffer for all worlds: load with "
@@ -242,7 +244,11 @@ class BatchAssembly:
       return self._reset_batch(jax.random.split(rng, num_worlds))
 
   def step_batch(self, state, actions):
-    """One step of every world: actions (worlds, 15) (jitted, vmapped `step`)."""
+    """One step of every world: actions (worlds, 15) (jitted, vmapped `step`); raises
+    ActionError for another shape."""
+    expected = (state.reward.shape[0], self.action_size)
+    if tuple(np.shape(actions)) != expected:
+      raise errors.ActionError(f"actions must have shape {expected}, got {np.shape(actions)}")
     with self.precision():
       return self._step_batch(state, actions)
 
