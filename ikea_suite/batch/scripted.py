@@ -3,8 +3,9 @@
 `last_part_start` builds worlds where every part but the last of the
 buildable order stands assembled and welded (at a random yaw), and the last
 part floats near its assembled pose (a few cm and degrees off), with cursor 0
-inside it. `carry_policy` reads the privileged state: cursor 0 holds the part
-and steers it, with proportional steps on the part's own pose error (so the
+inside it and cursor 1 inside the root part. `carry_policy` reads the
+privileged state: cursor 1 holds the assembly where it stands (as the CPU
+oracle holds the root), cursor 0 holds the last part and steers it, with proportional steps on the part's own pose error (so the
 grip's sag is corrected too), towards its pose relative to the assembled
 group, with connect on every step. The start and the policy serve the
 correctness test and the catalog script.
@@ -88,13 +89,16 @@ def last_part_start(env, rng, offset=(0.02, 0.05), tilt=np.radians(6)):
   rot = rot.at[last].set(turn @ rot[last])
   state = env.with_part_poses(state, pos, rot)
   eq_active = state.data.eq_active.at[jnp.asarray(active, dtype=jnp.int32)].set(True)
-  # Cursor 0 at the centre of the last part's first collision box.
-  g = int(np.flatnonzero(np.asarray(env.batch_model.geom_part) == last)[0])
-  centre = pos[last] + rigid.apply(rot[last], tables.geom_pos[g]
+  # Cursor 0 inside the last part, cursor 1 inside the root part (it holds the incomplete
+  # assembly up: a stool missing a side falls over), each at its first collision box's centre.
+  def centre(part):
+    g = int(np.flatnonzero(np.asarray(env.batch_model.geom_part) == part)[0])
+    return pos[part] + rigid.apply(rot[part], tables.geom_pos[g]
                                    + rigid.apply(tables.geom_rot[g], tables.geom_center[g]))
+  root = int(np.asarray(tables.order)[0])
   task = state.task._replace(
       group=jnp.asarray(group, dtype=jnp.int32), connector_used=jnp.asarray(used),
-      adjacency=jnp.asarray(adjacency), cursor_pos=state.task.cursor_pos.at[0].set(centre))
+      adjacency=jnp.asarray(adjacency), cursor_pos=jnp.stack([centre(last), centre(root)]))
   data = state.data.replace(eq_active=eq_active)
   return state._replace(data=data, task=task, obs=observe.observe(tables, task, data.qpos))
 
@@ -109,7 +113,7 @@ def _axis_angle(rot):
 
 def carry_policy(env, state):
   """The 15-entry action of one world: cursor 0 selects and steers the last part to its
-  assembled pose relative to the root part; connect is always on."""
+  assembled pose relative to the root part, cursor 1 holds the root; connect always on."""
   tables, s = env.tables, env.settings
   last, root = tables.order[-1], tables.order[0]
   design_pos, design_rot = (rigid.real(x) for x in _design(env))
@@ -126,7 +130,8 @@ def carry_policy(env, state):
   swing = jnp.cross(GAIN * _axis_angle(target_rot @ rot[last].T), lever)
   move = move - swing / (s.cursor.move_speed * dt)
   cursor0 = jnp.concatenate([move, turn, jnp.ones(1)])
-  return jnp.clip(jnp.concatenate([cursor0, jnp.zeros(7), jnp.ones(1)]), -1.0, 1.0)
+  cursor1 = jnp.concatenate([jnp.zeros(6), jnp.ones(1)])   # holds the assembly where it is
+  return jnp.clip(jnp.concatenate([cursor0, cursor1, jnp.ones(1)]), -1.0, 1.0)
 
 
 def run(env, num_worlds, steps, seed=0):
