@@ -1,0 +1,56 @@
+"""Observations of one world, named and shaped as the CPU environment's state observations.
+
+`next_pair` is `tasks/planner.next_pair` in array form: the first part of the
+buildable order outside the root's group, by a free pair reaching the root's
+group, preferring a pair on the part itself and one from the design.
+"""
+
+import jax.numpy as jnp
+
+from ikea_suite.batch import rigid
+from ikea_suite.batch import task_state
+
+
+def next_pair(tables, state):
+  """[moving part, target part] of the suggested connection, [-1, -1] when none is open."""
+  pairs = tables.pairs
+  part_a, part_b = pairs.part[pairs.pair_a], pairs.part[pairs.pair_b]
+  group = state.group
+  group_a, group_b = group[part_a], group[part_b]
+  open_mask = (~state.connector_used[pairs.pair_a] & ~state.connector_used[pairs.pair_b]
+               & (group_a != group_b))
+  root = group[tables.order[0]]
+  to_root = open_mask & ((group_a == root) | (group_b == root))
+  part = tables.order[:, None]                                   # (p, 1)
+  own = group[tables.order][:, None]
+  joins = to_root[None] & ((group_a[None] == own) | (group_b[None] == own)) & (own != root)
+  on_part = joins & ((part_a[None] == part) | (part_b[None] == part))
+  design = tables.design_pair[None]
+  levels = jnp.stack([on_part & design, on_part, joins & design, joins], axis=1)   # (p, 4, k)
+  flat = levels.reshape(-1)
+  k = jnp.where(flat.any(), jnp.argmax(flat) % open_mask.shape[0], jnp.argmax(open_mask))
+  a, b = part_a[k], part_b[k]
+  oriented = jnp.where(group[a] == root, jnp.stack([b, a]), jnp.stack([a, b]))
+  return jnp.where(open_mask.any(), oriented, -1)
+
+
+def observe(tables, state, qpos):
+  """The state observations of one world (jax default float), keyed as the CPU environment's.
+
+  Returns:
+    dict: part_positions (p, 3), part_quaternions (p, 4), connections (p, p),
+    connectors_used (c,), next_pair (2,), cursor_positions (2, 3),
+    cursor_quaternions (2, 4), cursor_held_parts (2,).
+  """
+  pos, rot = task_state.part_poses(tables, qpos)
+  f32 = rigid.real
+  return {
+      "part_positions": f32(pos),
+      "part_quaternions": f32(rigid.mat_to_quat(rot)),
+      "connections": f32(state.adjacency),
+      "connectors_used": f32(state.connector_used),
+      "next_pair": f32(next_pair(tables, state)),
+      "cursor_positions": f32(state.cursor_pos),
+      "cursor_quaternions": f32(state.cursor_quat),
+      "cursor_held_parts": f32(state.held),
+  }

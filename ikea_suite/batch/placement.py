@@ -1,0 +1,91 @@
+"""Randomized start per world: every part flat on the floor, random yaw, scattered in a ring.
+
+The batched form of `tasks/placement.ScatteredParts` (preassembled = 0): the
+same resting rotations, ring (inner radius = assembled radius + clearance,
+width `spread`), gap and yaw range, parts placed largest first without
+overlap. The CPU draws candidates until one fits and widens the ring by a
+part width every 100 draws; here each part draws CANDIDATES at once, in
+blocks of BLOCK whose ring widens by a part width per block, and takes the
+first that fits (the least overlapping if none does, which at the default
+spread does not happen).
+"""
+
+import typing
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ikea_suite.batch import rigid
+from ikea_suite.tasks import placement as cpu_placement
+
+BLOCK = 32
+CANDIDATES = 4 * BLOCK
+
+
+class Scatter(typing.NamedTuple):
+  """Per-furniture constants of the placement, parts in placement order."""
+  order: tuple              # part indices, largest extent first
+  rest_rot: np.ndarray      # (p, 3, 3) resting rotation of each part (placement order)
+  corners: np.ndarray       # (p, 8, 3) collision-bound corners in each part frame
+  inner: float              # m, ring's inner radius
+  spread: float
+  gap: float
+  yaw_range: float
+
+
+def _corners(bounds):
+  lo, hi = bounds
+  return np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                   for z in (lo[2], hi[2])])
+
+
+def scatter(spec, spread=0.9, clearance=0.15, gap=0.03, yaw_range=np.pi):
+  """Scatter constants for a FurnitureSpec, with ScatteredParts' defaults."""
+  rest = [cpu_placement.resting_rotation(p.bounds) for p in spec.parts]
+  corners = [_corners(p.bounds) for p in spec.parts]
+  extent = [np.ptp(c @ r.T, axis=0).max() for c, r in zip(corners, rest)]
+  order = tuple(int(i) for i in np.argsort(-np.array(extent), kind="stable"))
+  return Scatter(order, np.array([rest[i] for i in order]), np.array([corners[i] for i in order]),
+                 cpu_placement.assembled_radius(spec) + clearance, spread, gap, yaw_range)
+
+
+def place(scatter_constants, rng):
+  """Part poses for one world.
+
+  Args:
+    scatter_constants: a Scatter.
+    rng: a jax PRNG key.
+
+  Returns:
+    (positions (p, 3), rotations (p, 3, 3)) in part index order.
+  """
+  sc = scatter_constants
+  num = len(sc.order)
+  keys = jax.random.split(rng, num)
+  centres = jnp.zeros((num, 2))
+  radii = jnp.zeros(num)
+  positions, rotations = [None] * num, [None] * num
+  block = jnp.repeat(jnp.arange(CANDIDATES // BLOCK), BLOCK)
+  for n, part in enumerate(sc.order):
+    k_yaw, k_r, k_angle = jax.random.split(keys[n], 3)
+    yaw = jax.random.uniform(k_yaw, (), minval=-sc.yaw_range, maxval=sc.yaw_range)
+    rot = rigid.rot_z(yaw) @ rigid.real(sc.rest_rot[n])
+    corners = rigid.real(sc.corners[n]) @ rot.T
+    centre = (corners[:, :2].max(0) + corners[:, :2].min(0)) / 2
+    radius = jnp.max(jnp.linalg.norm(corners[:, :2] - centre, axis=1))
+    width = sc.spread + block * (2 * radius + sc.gap)
+    low = sc.inner + radius
+    r = low + jax.random.uniform(k_r, (CANDIDATES,)) * width
+    angle = jax.random.uniform(k_angle, (CANDIDATES,), minval=-np.pi, maxval=np.pi)
+    xy = r[:, None] * jnp.stack([jnp.cos(angle), jnp.sin(angle)], axis=1)
+    gaps = (jnp.linalg.norm(xy[:, None] - centres[None], axis=2) - radii[None] - radius - sc.gap)
+    gaps = jnp.where(jnp.arange(num)[None] < n, gaps, jnp.inf)
+    worst = jnp.min(gaps, axis=1)
+    free = worst > 0
+    pick = jnp.where(free.any(), jnp.argmax(free), jnp.argmax(worst))
+    centres = centres.at[n].set(xy[pick])
+    radii = radii.at[n].set(radius)
+    shift = jnp.concatenate([xy[pick] - centre, -corners[:, 2].min(keepdims=True) + 1e-3])
+    positions[part], rotations[part] = shift, rot
+  return jnp.stack(positions), jnp.stack(rotations)
