@@ -136,7 +136,7 @@ def build(furniture):
                     NUM_CURSORS, -1)
   weld_eq = ids(mujoco.mjtObj.mjOBJ_EQUALITY, [f"part_weld_{w}" for w in range(welds.num_welds)])
   # Grip welds: the cursor's soft grip, identity pose (the mocap body is the part's target).
-  model.eq_solref[grip_eq.ravel()] = cursor_lib._GRIP_SOLREF
+  model.eq_solref[grip_eq.ravel()] = physics_settings.CURSOR_GRIP_SOLREF
   model.eq_solimp[grip_eq.ravel()] = mujoco.MjModel.from_xml_string(
       "<mujoco><worldbody><body name='a'/></worldbody><equality><weld body1='a'/></equality>"
       "</mujoco>").eq_solimp[0]
