@@ -11,6 +11,16 @@ def quat_to_mat(quat):
   return out.reshape(3, 3)
 
 
+def quats_to_mats(quat):
+  """Rotation matrices (..., 3, 3) from unit quaternions (..., 4), vectorised."""
+  w, x, y, z = np.moveaxis(np.asarray(quat, dtype=float), -1, 0)
+  return np.stack([
+      np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+      np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+      np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
+  ], -2)
+
+
 def mat_to_quat(mat):
   """Unit quaternion (w >= 0) of one rotation matrix."""
   q = np.empty(4)
