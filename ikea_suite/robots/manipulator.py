@@ -247,7 +247,7 @@ class Manipulator(base.Robot):
       elif self._mode == control_modes.JOINT_TORQUE:
         data.ctrl[self._arm_act[i]] = action[i, :-1] * arm.torque_limits
       data.ctrl[self._finger_act[i]] = grippers.command(
-          arm.gripper.open_qpos, arm.gripper.closed_qpos, action[i, -1])
+          arm.gripper.open_qpos, arm.gripper.squeeze_qpos, action[i, -1])
 
   def _track_task_space(self, physics, action):
     data = physics.data
