@@ -13,6 +13,7 @@ from ikea_suite.props import furniture as furniture_lib
 from ikea_suite.props import scaling
 from ikea_suite.robots import registry
 from ikea_suite.tasks import alignment
+from ikea_suite.tasks import arm_placement
 from ikea_suite.tasks import assembly
 from ikea_suite.tasks import camera_observables
 from ikea_suite.tasks import placement
@@ -81,11 +82,17 @@ def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options)
   def picked(names):
     return {k: options[k] for k in names if k in options}
   furniture_prop = furniture_lib.Furniture(path)
+  robot_entity = robot_entry.factory(**{k: options[k] for k in robot_keys if k in options})
+  if hasattr(robot_entity, "reach_zone"):   # an arm: the same options, within its reach
+    initializer = arm_placement.reachable_parts(furniture_prop, robot_entity.reach_zone,
+                                                **picked(placement.OPTIONS))
+  else:
+    initializer = placement.scattered_parts(furniture_prop, **picked(placement.OPTIONS))
   task = assembly.Assembly(
       arena=presets.make_arena(options.get("scene", "default")),
       furniture=furniture_prop,
-      initializer=placement.scattered_parts(furniture_prop, **picked(placement.OPTIONS)),
-      robot=robot_entry.factory(**{k: options[k] for k in robot_keys if k in options}),
+      initializer=initializer,
+      robot=robot_entity,
       thresholds=thresholds,
       **{k: options[k] for k in TASK_OPTIONS if k in options})
   randomization.attach(task, **picked(randomization.OPTIONS))

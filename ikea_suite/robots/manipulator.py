@@ -21,7 +21,6 @@ from ikea_suite.robots import base
 from ikea_suite.robots import control_modes
 from ikea_suite.robots import grippers
 from ikea_suite.robots import ik
-from ikea_suite.robots import workspace
 
 _HOME_CACHE = {}
 
@@ -185,14 +184,11 @@ class Manipulator(base.Robot):
     frame.quat = geometry.mat_to_quat(self._base_rot)
     return frame
 
-  def part_initializer(self, furniture, scattered=None):
-    """The task's part placement for this robot: parts within reach (see workspace.py).
-
-    The Assembly task calls this with the placement it would otherwise use
-    (`scattered`), which an arm replaces: a ring around the origin is out of reach.
-    """
-    del scattered
-    return workspace.ReachableParts(furniture, self._base_pos[:2], self._base_rot, self.REACH)
+  @property
+  def reach_zone(self):
+    """(base xy (2,), base rotation (3, 3), reach in m): where the task may put parts for
+    this arm (tasks/arm_placement.py); a ring around the origin is out of reach."""
+    return self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH)
 
   def bind_scene(self, arena, furniture, assembly, control_timestep):
     self._dt = control_timestep
