@@ -81,7 +81,7 @@ def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options)
     thresholds = dataclasses.replace(thresholds, distance=thresholds.distance * scale)
   def picked(names):
     return {k: options[k] for k in names if k in options}
-  furniture_prop = furniture_lib.Furniture(path)
+  furniture_prop = furniture_lib.Furniture(path, scale=scale)
   robot_entity = robot_entry.factory(**{k: options[k] for k in robot_keys if k in options})
   if hasattr(robot_entity, "reach_zone"):   # an arm: the same options, within its reach
     initializer = arm_placement.reachable_parts(furniture_prop, robot_entity.reach_zone,

@@ -62,6 +62,10 @@ class Manipulator(base.Robot):
   DEFAULT_NAME = "manipulator"
   BASE_POS = (-0.55, 0.0, 0.0)   # world position of the base, facing +x
   REACH = 0.85                   # metres from the base where parts are placed
+  # Furniture scale that fits this arm's reach (load(scale=...)): at 0.5 a 55 cm table
+  # top is 27.5 cm and every part of the small furniture lies within REACH on the work
+  # area in front of the base, the way FurnitureBench assembles miniature furniture.
+  WORK_SCALE = 0.5
   KP_PER_NM = 10.0               # position gain per N m of torque limit
   VELOCITY_LIMIT = 2.0           # rad/s per joint in the IK
 
