@@ -21,12 +21,13 @@ import numpy as np
 
 
 def run_episode(job):
-  """(robot, furniture, scale, seed) -> dict summary of one expert episode."""
-  robot, furniture, scale, seed = job
+  """(robot, furniture, scale, seed, time limit or None) -> dict summary of one expert episode."""
+  robot, furniture, scale, seed, time_limit = job
   import ikea_suite
   from ikea_suite import experts
   start = time.perf_counter()
-  env = ikea_suite.load(furniture, robot, seed=seed, scale=scale)
+  options = {} if time_limit is None else {"time_limit": time_limit}
+  env = ikea_suite.load(furniture, robot, seed=seed, scale=scale, **options)
   expert = experts.make_expert(env)
   timestep = env.reset()
   expert.reset()
@@ -79,6 +80,8 @@ def main(argv=None):
   parser.add_argument("--seeds", type=int, default=10)
   parser.add_argument("--scale", type=float, default=None, help="default: the robot's WORK_SCALE")
   parser.add_argument("--processes", type=int, default=2)
+  parser.add_argument("--time-limit", type=float, default=None,
+                      help="simulated seconds per episode (default: the task's, 30 + 25 per part)")
   parser.add_argument("--json", default=None, help="also write every episode's summary here")
   args = parser.parse_args(argv)
   from ikea_suite.robots import registry
@@ -86,13 +89,19 @@ def main(argv=None):
   jobs = []
   for robot in args.robots:
     scale = args.scale or getattr(registry.get(robot).factory, "WORK_SCALE", 1.0)
-    jobs += [(robot, m, scale, s) for m in models
+    jobs += [(robot, m, scale, s, args.time_limit) for m in models
              for s in range(args.seed_start, args.seed_start + args.seeds)]
   start = time.perf_counter()
+  rows = []
   with multiprocessing.get_context("fork").Pool(args.processes) as pool:
-    rows = pool.map(run_episode, jobs, chunksize=1)
+    for row in pool.imap_unordered(run_episode, jobs, chunksize=1):
+      rows.append(row)   # one line per finished episode, so a cut-short sweep keeps its results
+      print(json.dumps(row), flush=True)
+  order = {job[:4]: k for k, job in enumerate(jobs)}
+  rows.sort(key=lambda r: order[(r["robot"], r["furniture"], r["scale"], r["seed"])])
+  limit = "task default" if args.time_limit is None else f"{args.time_limit:g} s"
   print(f"{len(jobs)} episodes, seeds {args.seed_start}..{args.seed_start + args.seeds - 1}, "
-        f"{args.processes} processes, {time.perf_counter() - start:.0f} s, "
+        f"time limit {limit}, {args.processes} processes, {time.perf_counter() - start:.0f} s, "
         f"load {os.getloadavg()[0]:.1f}")
   for robot in args.robots:
     print_table(robot, [r for r in rows if r["robot"] == robot])

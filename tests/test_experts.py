@@ -72,3 +72,9 @@ def test_sawyer_expert_connects_legs_of_the_half_size_lack_table():
   while not timestep.last() and not env.task.state.complete:
     timestep = env.step(expert(timestep))
   assert len(env.task.state.connections) >= 2   # legs joined through the action vector
+
+
+def test_expert_supported_pairs_are_loadable_pairs():
+  pairs = set(ikea_suite.EXPERT_SUPPORTED)
+  assert pairs <= set(ikea_suite.ALL)
+  assert {f for f, r in pairs if r == "cursor"} == set(ikea_suite.furniture_names())
