@@ -78,3 +78,10 @@ def test_expert_supported_pairs_are_loadable_pairs():
   pairs = set(ikea_suite.EXPERT_SUPPORTED)
   assert pairs <= set(ikea_suite.ALL)
   assert {f for f, r in pairs if r == "cursor"} == set(ikea_suite.furniture_names())
+
+
+def test_rollout_cli_runs_the_expert(capsys):
+  from ikea_suite import cli
+  assert cli.main(["--policy", "expert", "--robot", "sawyer", "--scale", "0.5",
+                   "--time-limit", "1"]) == 0
+  assert "expert policy" in capsys.readouterr().out
