@@ -30,6 +30,11 @@ from ikea_suite.suite import robot_names  # noqa: E402
 
 def __getattr__(name):
   # ALL reads the model directory, so it is computed on first use, not at import.
+  # ALL lists every (furniture, robot) pair that loads; EXPERT_SUPPORTED the subset a
+  # scripted expert assembles (measured, ikea_suite/experts/supported.py).
   if name == "ALL":
     return tuple(all_environments())
+  if name == "EXPERT_SUPPORTED":   # (furniture, robot) pairs a scripted expert assembles
+    from ikea_suite import experts  # pylint: disable=g-import-not-at-top
+    return experts.supported_pairs()
   raise AttributeError(f"module 'ikea_suite' has no attribute {name!r}")

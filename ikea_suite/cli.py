@@ -2,6 +2,7 @@
 
     ikea-suite-rollout                       # the Cursor oracle on the default furniture
     ikea-suite-rollout --policy random --furniture chair_back_ivar --episodes 3
+    ikea-suite-rollout --policy expert --robot sawyer --scale 0.5 --episodes 3
     ikea-suite-rollout --list                # the furniture catalog with part counts and masses
     ikea-suite-rollout --doctor              # versions, rendering backend, hints for problems
 """
@@ -14,13 +15,16 @@ import numpy as np
 
 import ikea_suite  # sets MUJOCO_GL=egl on a display-less Linux machine
 from ikea_suite import doctor
+from ikea_suite import experts
 from ikea_suite.oracle import cursor_oracle
 from ikea_suite.props import catalog
 
-POLICIES = ("oracle", "random")
+POLICIES = ("oracle", "expert", "random")
 
 
 def make_policy(name, env, seed):
+  if name == "expert":   # the scripted expert of any robot (ikea_suite.experts)
+    return experts.make_expert(env)
   if name == "oracle":
     if env.task.robot.__class__.__name__ != "Cursor":
       raise ikea_suite.IkeaSuiteError("the oracle policy drives the cursor robot; use --policy random")
@@ -65,6 +69,9 @@ def main(argv=None):
   parser.add_argument("--episodes", type=int, default=1)
   parser.add_argument("--seed", type=int, default=0)
   parser.add_argument("--time-limit", type=float, default=None, help="seconds of simulated time")
+  parser.add_argument("--scale", type=float, default=None,
+                      help="furniture size factor (default 1; arms assemble small furniture "
+                           "at their WORK_SCALE, e.g. 0.5)")
   parser.add_argument("--list", action="store_true",
                       help="print the furniture catalog (parts, mass) and exit")
   parser.add_argument("--doctor", action="store_true",
@@ -76,6 +83,8 @@ def main(argv=None):
     print_catalog()
     return 0
   options = {} if args.time_limit is None else {"time_limit": args.time_limit}
+  if args.scale is not None:
+    options["scale"] = args.scale
   try:
     env = ikea_suite.load(args.furniture, args.robot, seed=args.seed, **options)
     policy = make_policy(args.policy, env, args.seed)

@@ -1,5 +1,6 @@
 """ikea_suite.load: furniture x robot x options -> a composer environment."""
 
+import dataclasses
 import inspect
 
 from ikea_suite import environment
@@ -9,8 +10,10 @@ from ikea_suite import physics_settings
 from ikea_suite.arenas import presets
 from ikea_suite.props import catalog
 from ikea_suite.props import furniture as furniture_lib
+from ikea_suite.props import scaling
 from ikea_suite.robots import registry
 from ikea_suite.tasks import alignment
+from ikea_suite.tasks import arm_placement
 from ikea_suite.tasks import assembly
 from ikea_suite.tasks import camera_observables
 from ikea_suite.tasks import placement
@@ -25,6 +28,8 @@ TASK_OPTIONS = ("control_timestep", "physics_timestep", "connection_reward", "co
 THRESHOLD_OPTIONS = {"distance_threshold": "distance", "up_threshold": "up_cos",
                      "forward_threshold": "forward_cos"}
 ENVIRONMENT_OPTIONS = ("time_limit",)
+# Furniture size factor (props/scaling.py): lengths x scale, masses x scale^3, inertias x scale^5.
+FURNITURE_OPTIONS = ("scale",)
 # Scene preset, placement, randomization and cameras: see the README, "Observations, scenes and domain randomization".
 SCENE_OPTIONS = (("scene",) + placement.OPTIONS + randomization.OPTIONS
                  + camera_observables.OPTIONS)
@@ -54,6 +59,10 @@ def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options)
   connection_reward, completion_bonus; reward ("sparse" or "dense", tasks/rewards.py); distance_threshold (m), up_threshold
   and forward_threshold (cosines); and the robot's own options (for the
   cursor: move_speed, rotate_speed, grasp_margin, workspace, radius).
+  scale: the furniture's size factor (0.2 to 2, default 1): the same design built
+  that much smaller or larger from the same materials, lengths x scale, masses
+  x scale^3, inertias x scale^5, connectors with the parts; the default
+  distance_threshold scales with it (a given distance_threshold is in metres).
   Scene: scene (preset name), spread, preassembled, yaw_range, randomize;
   images: cameras, camera_outputs, image_size, goal_image (README: "Observations, scenes and domain randomization").
   Unknown names raise UnknownNameError listing the valid ones.
@@ -62,21 +71,31 @@ def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options)
   robot_entry = registry.get(robot)
   robot_keys = _robot_options(robot_entry.factory)
   valid = (set(TASK_OPTIONS) | set(THRESHOLD_OPTIONS) | set(ENVIRONMENT_OPTIONS) | set(robot_keys)
-           | set(SCENE_OPTIONS))
+           | set(SCENE_OPTIONS) | set(FURNITURE_OPTIONS))
   for key in options:
     if key not in valid:
       raise errors.UnknownNameError("option", key, valid)
   _check_options(options)
+  scale = scaling.check_scale(options.get("scale", 1.0))
+  path = scaling.scaled_path(path, scale)
   thresholds = alignment.Thresholds(**{field: options[key] for key, field in THRESHOLD_OPTIONS.items()
                                        if key in options})
+  if "distance_threshold" not in options and scale != 1.0:
+    thresholds = dataclasses.replace(thresholds, distance=thresholds.distance * scale)
   def picked(names):
     return {k: options[k] for k in names if k in options}
-  furniture_prop = furniture_lib.Furniture(path)
+  furniture_prop = furniture_lib.Furniture(path, scale=scale)
+  robot_entity = robot_entry.factory(**{k: options[k] for k in robot_keys if k in options})
+  if robot_entity.reach_zone is not None:   # an arm: the same options, within its reach
+    initializer = arm_placement.reachable_parts(furniture_prop, robot_entity.reach_zone,
+                                                **picked(placement.OPTIONS))
+  else:
+    initializer = placement.scattered_parts(furniture_prop, **picked(placement.OPTIONS))
   task = assembly.Assembly(
       arena=presets.make_arena(options.get("scene", "default")),
       furniture=furniture_prop,
-      initializer=placement.scattered_parts(furniture_prop, **picked(placement.OPTIONS)),
-      robot=robot_entry.factory(**{k: options[k] for k in robot_keys if k in options}),
+      initializer=initializer,
+      robot=robot_entity,
       thresholds=thresholds,
       **{k: options[k] for k in TASK_OPTIONS if k in options})
   randomization.attach(task, **picked(randomization.OPTIONS))

@@ -150,8 +150,8 @@ def test_collect_on_a_local_ray_instance():
   assert [e.seed for e in episodes] == [0, 1] and all(e.num_samples == 5 for e in episodes)
 
 
-def test_robot_without_expert_is_refused(tmp_path):
-  with pytest.raises(ikea_suite.UnknownNameError, match="cursor"):
-    experts.make(ikea_suite.load(FURNITURE, "baxter"))
-  assert collect.main(["--robot", "jaco", "--episodes", "1", "--out",
-                       str(tmp_path / "x.hdf5")]) == 2
+def test_every_robot_has_an_expert_and_arms_need_task_space():
+  assert set(experts.EXPERTS) == set(ikea_suite.robot_names())
+  assert experts.make(ikea_suite.load(FURNITURE, "baxter")).name == "two_arm"
+  with pytest.raises(ikea_suite.IkeaSuiteError, match="task_space"):
+    experts.make(ikea_suite.load(FURNITURE, "jaco", control_mode="joint_position"))

@@ -122,6 +122,8 @@ def parse_args(argv=None):
   parser.add_argument("--seed", type=int, default=0, help="seed of the first episode")
   parser.add_argument("--time-limit", type=float, default=None, help="seconds of simulated time")
   parser.add_argument("--reward", default="sparse", choices=("sparse", "dense"))
+  parser.add_argument("--scale", type=float, default=None,
+                      help="furniture size factor (arms: their WORK_SCALE, e.g. 0.5)")
   parser.add_argument("--valid-fraction", type=float, default=0.1)
   parser.add_argument("--ray", default=None, metavar="ADDRESS",
                       help="run episodes on the Ray cluster at ADDRESS (ray extra)")
@@ -135,6 +137,8 @@ def main(argv=None) -> int:
     options.update(cameras=tuple(a.cameras), image_size=a.image_size)
   if a.time_limit is not None:
     options["time_limit"] = a.time_limit
+  if a.scale is not None:
+    options["scale"] = a.scale
   args = hdf5.env_args(a.furniture, a.robot, options)
   try:
     if a.episodes < 1 or a.workers < 1:

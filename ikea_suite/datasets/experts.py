@@ -3,12 +3,12 @@
 from typing import Any
 
 from ikea_suite import errors
-from ikea_suite.oracle import arm_controller
-from ikea_suite.oracle import cursor_oracle
+from ikea_suite import experts as experts_lib
 
-# robot name -> expert: the Cursor oracle assembles everything; the arm controller
-# drives a single parallel-gripper arm in task space (README, "Scripted Sawyer controller").
-EXPERTS = {"cursor": "cursor_oracle", "sawyer": "arm_controller", "panda": "arm_controller"}
+# robot name -> expert kind (ikea_suite.experts.make_expert builds it): the Cursor
+# oracle, the single-arm controller, and Baxter's two-arm expert.
+EXPERTS = {"cursor": "cursor_oracle", "sawyer": "arm_controller", "panda": "arm_controller",
+           "jaco": "arm_controller", "baxter": "two_arm"}
 
 
 class Expert:
@@ -26,10 +26,7 @@ class Expert:
     if robot not in EXPERTS:
       raise errors.UnknownNameError("robot with an expert", robot, EXPERTS)
     self.name = EXPERTS[robot]
-    if self.name == "cursor_oracle":
-      self._policy = cursor_oracle.CursorOracle(env)
-    else:
-      self._policy = arm_controller.ArmAssemblyController(env)
+    self._policy = experts_lib.make_expert(env)
 
   def reset(self) -> None:
     self._policy.reset()

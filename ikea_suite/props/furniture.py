@@ -20,7 +20,9 @@ class Furniture(composer.Entity):
   task's alignment check is pure numpy.
   """
 
-  def _build(self, path):
+  def _build(self, path, scale=1.0):
+    """Args: path: the model file (already scaled, see props/scaling.py); scale: its size factor."""
+    self._scale = float(scale)
     self._spec = model_format.load_spec(str(path))
     self._mjcf_root = mjcf.RootElement(model=self._spec.name)
     self._parts = [part_lib.Part(p, self._spec) for p in self._spec.parts]
@@ -64,6 +66,11 @@ class Furniture(composer.Entity):
   @property
   def spec(self):
     return self._spec
+
+  @property
+  def scale(self):
+    """Size factor of this furniture relative to its design (the `scale` load option)."""
+    return self._scale
 
   @property
   def name(self):

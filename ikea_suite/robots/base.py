@@ -31,9 +31,11 @@ class Robot(composer.Entity, abc.ABC):
   def on_parts_moved(self, physics, part_indices):
     """Called after the task snapped parts to new poses during a connection."""
 
-  def part_initializer(self, furniture, initializer):
-    """The part placement to use with this robot, given the task's; by default the task's."""
-    return initializer
+  @property
+  def reach_zone(self):
+    """(base xy, base rotation, reach in m) within which a fixed-base robot needs its parts,
+    or None for a robot that reaches everywhere (the Cursor); the task places parts by it."""
+    return None
 
   @property
   def cameras(self):

@@ -1,8 +1,11 @@
 """Parallel grippers built from fact sheets: the Rethink electric gripper and the Franka hand.
 
 Each finger is a slide joint driven by a force-limited position actuator, so
-a closed gripper squeezes a part with at most the sheet's finger force and
-holds it by friction alone. The gripper action maps -1 to open, +1 to closed.
+a closed gripper squeezes a part with at most the manufacturer's grasp force
+(the fact sheet's `grip` block: force, stroke, pad friction, each with its
+source) and holds it by friction alone. With two opposed fingers each pushing
+with at most F, the part is squeezed with F, so each finger's force limit is
+the published grasp force. The gripper action maps -1 to open, +1 to closed.
 """
 
 import dataclasses
@@ -11,10 +14,44 @@ import numpy as np
 
 from ikea_suite.robots import robot_facts
 
-# Finger pads grip with more friction than bare links (MuJoCo takes the larger of
-# the two geoms' coefficients) and resist twisting of a held part (condim 4).
-_PAD_FRICTION = (2.0, 0.05, 0.0001)
+# Finger pads resist twisting of a held part (condim 4); their sliding friction
+# comes from the sheet's grip block (MuJoCo takes the larger of the two geoms').
+_PAD_TORSION, _PAD_ROLLING = 0.05, 0.0001
 _PAD_CONDIM = 4
+
+
+@dataclasses.dataclass(frozen=True)
+class GripFacts:
+  """A hand's published grasp figures (the fact sheet's `grip` block).
+
+  Attributes:
+    force: continuous grasp force, N.
+    peak_force: peak grasp force, N.
+    stroke: full opening, m.
+    friction: sliding friction coefficient of the finger pads.
+    sources: figure name -> where the figure comes from.
+  """
+  force: float
+  peak_force: float
+  stroke: float
+  friction: float
+  sources: dict
+
+
+def grip_facts(sheet: str) -> GripFacts:
+  """The grasp figures of fact sheet `sheet` (e.g. "panda_gripper").
+
+  Args:
+    sheet: fact sheet name under robots/facts.
+  Returns:
+    GripFacts with the sheet's figures and their sources.
+  Raises:
+    UnknownNameError: no such sheet.
+  """
+  grip = robot_facts.load(sheet)["grip"]
+  return GripFacts(force=float(grip["force_continuous_n"]), peak_force=float(grip["force_peak_n"]),
+                   stroke=float(grip["stroke_m"]), friction=float(grip["finger_friction"]),
+                   sources=dict(grip["sources"]))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -48,38 +85,59 @@ class GripperParts:
   closed_qpos: np.ndarray
   tcp_site: object
   root_body: object
+  # Position target of a closed command: past the closed limit by force / kp, so a
+  # finger squeezes with its full force limit whatever the part's thickness (as a
+  # real gripper's force-controlled grasp does), not kp times the travel left.
+  squeeze_qpos: np.ndarray = None
+
+  def __post_init__(self):
+    if self.squeeze_qpos is None:
+      self.squeeze_qpos = self.closed_qpos
 
 
 def build(hand_body, spec, prefix):
   """Builds `spec` under the arm's hand body; names get `prefix`. Returns GripperParts."""
   facts = robot_facts.load(spec.facts)
+  grip = grip_facts(spec.facts)
   root = facts["bodies"][0]
   elements = robot_facts.add_tree(hand_body, facts, name_prefix=prefix, pos=[0, 0, 0],
                                   quat=spec.mount_quat or root.get("quat", [1, 0, 0, 0]))
   for body_name in spec.pad_bodies:
     for geom in elements[body_name].find_all("geom", immediate_children_only=True):
       if geom.contype:
-        geom.friction, geom.condim = _PAD_FRICTION, _PAD_CONDIM
+        geom.friction = (grip.friction, _PAD_TORSION, _PAD_ROLLING)
+        geom.condim = _PAD_CONDIM
   mjcf_root = hand_body.root
   limits = {a["joint"]: a for a in facts["actuators"]}
-  joints, actuators = [], []
-  for joint_name in spec.fingers:
+  force = grip.force   # each finger pushes with at most the published grasp force
+  values = np.array(list(spec.fingers.values()), dtype=float)
+  joints, actuators, squeeze = [], [], []
+  for (joint_name, (open_q, closed_q)) in spec.fingers.items():
     joint = mjcf_root.find("joint", prefix + joint_name)
-    sheet = limits[joint_name]
+    kp = float(limits[joint_name]["kp"])
+    target = closed_q + np.sign(closed_q - open_q) * force / kp
+    squeeze.append(target)
     joints.append(joint)
     actuators.append(mjcf_root.actuator.add(
-        "position", name=f"{prefix}{joint_name}_position", joint=joint, kp=float(sheet["kp"]),
-        ctrllimited=True, ctrlrange=joint.range, forcelimited=True,
-        forcerange=[float(x) for x in sheet["forcerange"].split()]))
-  values = np.array(list(spec.fingers.values()), dtype=float)
+        "position", name=f"{prefix}{joint_name}_position", joint=joint, kp=kp,
+        ctrllimited=True, ctrlrange=sorted([open_q, target]), forcelimited=True,
+        forcerange=[-force, force]))
   return GripperParts(joints=joints, actuators=actuators, open_qpos=values[:, 0],
                       closed_qpos=values[:, 1],
                       tcp_site=mjcf_root.find("site", prefix + spec.tcp_site),
-                      root_body=elements[root["name"]])
+                      root_body=elements[root["name"]], squeeze_qpos=np.array(squeeze))
 
 
 def command(open_qpos, closed_qpos, action):
-  """Finger position targets for a gripper action in [-1, 1] (-1 open, +1 closed)."""
+  """Finger position targets for a gripper action in [-1, 1] (-1 open, +1 closed).
+
+  Args:
+    open_qpos: finger targets of an open command.
+    closed_qpos: finger targets of a closed command (GripperParts.squeeze_qpos).
+    action: the gripper entry of the action.
+  Returns:
+    Finger position targets, interpolated linearly.
+  """
   fraction = (np.clip(action, -1.0, 1.0) + 1.0) / 2.0
   return open_qpos + fraction * (closed_qpos - open_qpos)
 

@@ -11,13 +11,16 @@ from dm_control.entities.manipulators import kinova
 
 from ikea_suite.robots import grippers
 from ikea_suite.robots import manipulator
+from ikea_suite.robots import robot_facts
 
 JOINTS = tuple(f"joint_{i}" for i in range(1, 7))
 # Kinova's peak torques (as in dm_control's JacoArm): large and small actuators.
 _TORQUE_LIMITS = (30.5, 30.5, 30.5, 6.8, 6.8, 6.8)
 _SEED = (np.pi, 3.5, 1.6, -0.45, 1.5, 0.2)
 _FINGER_OPEN, _FINGER_CLOSED = 0.15, 1.35   # the hand's finger joint range
-_FINGER_KP, _FINGER_FORCE = 5.0, 2.0
+_FINGER_KP = 5.0
+# The KG-3's ~25 N grip comes from 1 N m per finger joint (kinova_hand.json, after dm_control).
+_HAND_SHEET = "kinova_hand"
 
 
 class Jaco(manipulator.Manipulator):
@@ -38,6 +41,11 @@ class Jaco(manipulator.Manipulator):
     for actuator in list(arm_entity.actuators) + list(hand_entity.actuators):
       actuator.remove()
     hand = hand_entity.mjcf_model
+    grip = grippers.grip_facts(_HAND_SHEET)
+    finger_torque = float(robot_facts.load(_HAND_SHEET)["grip"]["finger_torque_nm"])
+    for geom in hand.find_all("geom"):
+      if geom.contype != 0 or geom.conaffinity != 0:
+        geom.friction = (grip.friction, 0.05, 0.0001)
     grip = hand_entity.grip_site
     # The tool-centre point: at dm_control's grip site with z along the approach direction.
     tcp = grip.parent.add("site", name="tcp", pos=grip.pos, quat=(0.0, 1.0, 0.0, 0.0),
@@ -46,12 +54,13 @@ class Jaco(manipulator.Manipulator):
                              xyaxes=(1, 0, 0, 0, 0, 1), fovy=75)
     actuators = [hand.actuator.add(
         "position", name=f"{joint.name}_position", joint=joint, kp=_FINGER_KP, ctrllimited=True,
-        ctrlrange=(_FINGER_OPEN, _FINGER_CLOSED), forcelimited=True,
-        forcerange=(-_FINGER_FORCE, _FINGER_FORCE)) for joint in hand_entity.joints]
+        ctrlrange=(_FINGER_OPEN, _FINGER_CLOSED + finger_torque / _FINGER_KP), forcelimited=True,
+        forcerange=(-finger_torque, finger_torque)) for joint in hand_entity.joints]
     count = len(hand_entity.joints)
     gripper = grippers.GripperParts(
         joints=list(hand_entity.joints), actuators=actuators,
         open_qpos=np.full(count, _FINGER_OPEN), closed_qpos=np.full(count, _FINGER_CLOSED),
+        squeeze_qpos=np.full(count, _FINGER_CLOSED + finger_torque / _FINGER_KP),
         tcp_site=tcp, root_body=grip.parent)
     arm = manipulator.Arm(
         prefix="", joints=list(arm_entity.joints), torque_limits=np.array(_TORQUE_LIMITS),

@@ -21,7 +21,6 @@ from ikea_suite.robots import base
 from ikea_suite.robots import control_modes
 from ikea_suite.robots import grippers
 from ikea_suite.robots import ik
-from ikea_suite.robots import workspace
 
 _HOME_CACHE = {}
 
@@ -63,6 +62,10 @@ class Manipulator(base.Robot):
   DEFAULT_NAME = "manipulator"
   BASE_POS = (-0.55, 0.0, 0.0)   # world position of the base, facing +x
   REACH = 0.85                   # metres from the base where parts are placed
+  # Furniture scale that fits this arm's reach (load(scale=...)): at 0.5 a 55 cm table
+  # top is 27.5 cm and every part of the small furniture lies within REACH on the work
+  # area in front of the base, the way FurnitureBench assembles miniature furniture.
+  WORK_SCALE = 0.5
   KP_PER_NM = 10.0               # position gain per N m of torque limit
   VELOCITY_LIMIT = 2.0           # rad/s per joint in the IK
 
@@ -185,14 +188,11 @@ class Manipulator(base.Robot):
     frame.quat = geometry.mat_to_quat(self._base_rot)
     return frame
 
-  def part_initializer(self, furniture, scattered=None):
-    """The task's part placement for this robot: parts within reach (see workspace.py).
-
-    The Assembly task calls this with the placement it would otherwise use
-    (`scattered`), which an arm replaces: a ring around the origin is out of reach.
-    """
-    del scattered
-    return workspace.ReachableParts(furniture, self._base_pos[:2], self._base_rot, self.REACH)
+  @property
+  def reach_zone(self):
+    """(base xy (2,), base rotation (3, 3), reach in m): where the task may put parts for
+    this arm (tasks/arm_placement.py); a ring around the origin is out of reach."""
+    return self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH)
 
   def bind_scene(self, arena, furniture, assembly, control_timestep):
     self._dt = control_timestep
@@ -248,7 +248,7 @@ class Manipulator(base.Robot):
       elif self._mode == control_modes.JOINT_TORQUE:
         data.ctrl[self._arm_act[i]] = action[i, :-1] * arm.torque_limits
       data.ctrl[self._finger_act[i]] = grippers.command(
-          arm.gripper.open_qpos, arm.gripper.closed_qpos, action[i, -1])
+          arm.gripper.open_qpos, arm.gripper.squeeze_qpos, action[i, -1])
 
   def _track_task_space(self, physics, action):
     data = physics.data

@@ -12,6 +12,7 @@ from ikea_suite import geometry
 from ikea_suite import physics_settings
 from ikea_suite.assembly import sequence
 from ikea_suite.tasks import alignment
+from ikea_suite.tasks import arm_placement
 from ikea_suite.tasks import assembly_state
 from ikea_suite.tasks import collision_groups
 from ikea_suite.tasks import placement
@@ -65,8 +66,9 @@ class Assembly(composer.Task):
     self._design_pairs = placement.design_pairs(furniture.spec, self._table)
     self.set_timesteps(control_timestep=control_timestep, physics_timestep=physics_timestep)
     robot.bind_scene(arena, furniture, self._state, self.control_timestep)
-    # A fixed-base arm keeps parts within its reach; the Cursor takes the task's placement.
-    initializer = robot.part_initializer(furniture, initializer or placement.ScatteredParts(furniture))
+    if initializer is None:   # a fixed-base arm keeps parts within its reach
+      initializer = (placement.ScatteredParts(furniture) if robot.reach_zone is None
+                     else arm_placement.reachable_parts(furniture, robot.reach_zone))
     self._initializer = initializer
     self._step_reward = 0.0
     self._blocked = ()

@@ -142,11 +142,11 @@ OPTIONS = ("spread", "preassembled", "yaw_range")
 def scattered_parts(furniture, spread=0.9, preassembled=0, yaw_range=np.pi):
   """ScatteredParts from load() options: ring width (m), curriculum count, largest |yaw| (rad)."""
   for name, value in (("spread", spread), ("yaw_range", yaw_range)):
-    if not _is_number(value) or not 0 <= value < np.inf:
+    if not is_number(value) or not 0 <= value < np.inf:
       raise errors.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
   return ScatteredParts(furniture, spread=float(spread), preassembled=preassembled,
                         yaw=distributions.Uniform(-float(yaw_range), float(yaw_range)))
 
 
-def _is_number(value):
+def is_number(value):
   return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)

@@ -1,0 +1,115 @@
+"""Success of the scripted experts per furniture model and robot, on fresh seeds.
+
+    python benchmarks/expert_sweep.py --robots sawyer panda --seed-start 1000 --seeds 10
+    python benchmarks/expert_sweep.py --robots jaco --models table_four_leg_lack --processes 2
+
+For each robot, one row per model: the scale it runs at (the robot's
+WORK_SCALE unless --scale), parts, complete assemblies / seeds, mean
+connections, mean control steps and mean wall-clock seconds per episode.
+Episodes run in parallel processes (--processes). Report figures from
+seeds >= 1000: the experts were developed on seeds below 100.
+"""
+
+import argparse
+import json
+import multiprocessing
+import os
+import sys
+import time
+
+import numpy as np
+
+
+def run_episode(job):
+  """(robot, furniture, scale, seed, time limit or None) -> dict summary of one expert episode."""
+  robot, furniture, scale, seed, time_limit = job
+  import ikea_suite
+  from ikea_suite import experts
+  start = time.perf_counter()
+  options = {} if time_limit is None else {"time_limit": time_limit}
+  env = ikea_suite.load(furniture, robot, seed=seed, scale=scale, **options)
+  expert = experts.make_expert(env)
+  timestep = env.reset()
+  expert.reset()
+  steps = 0
+  while not timestep.last():
+    timestep = env.step(expert(timestep))
+    steps += 1
+  state = env.task.state
+  return {"robot": robot, "furniture": furniture, "scale": scale, "seed": seed,
+          "parts": len(env.task.furniture.parts), "connections": len(state.connections),
+          "complete": bool(state.complete), "steps": steps,
+          "seconds": time.perf_counter() - start,
+          "arms_used": sorted(getattr(expert, "arms_used", {0}))}
+
+
+def default_models(count):
+  """Small tabletop furniture across categories: the `count` models with fewest parts
+  and lowest mass per category, round-robin over categories."""
+  from ikea_suite.props import catalog
+  by_category = {}
+  for e in sorted(catalog.entries().values(), key=lambda e: (e.num_parts, e.mass)):
+    if e.num_parts <= 6:
+      by_category.setdefault(e.category, []).append(e.name)
+  out = []
+  while len(out) < count and any(by_category.values()):
+    for names in by_category.values():
+      if names and len(out) < count:
+        out.append(names.pop(0))
+  return out
+
+
+def print_table(robot, rows):
+  print(f"\n{robot}")
+  print(f"{'model':40s} {'scale':>5s} {'parts':>5s} {'complete':>9s} {'mean conn':>9s} "
+        f"{'steps':>6s} {'seconds':>7s}")
+  for furniture in dict.fromkeys(r["furniture"] for r in rows):
+    mine = [r for r in rows if r["furniture"] == furniture]
+    print(f"{furniture:40s} {mine[0]['scale']:5.2f} {mine[0]['parts']:5d} "
+          f"{sum(r['complete'] for r in mine):4d}/{len(mine):<4d} "
+          f"{np.mean([r['connections'] for r in mine]):9.2f} "
+          f"{np.mean([r['steps'] for r in mine]):6.0f} {np.mean([r['seconds'] for r in mine]):7.1f}")
+
+
+def main(argv=None):
+  parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+  parser.add_argument("--robots", nargs="+", default=["sawyer", "panda", "baxter", "jaco"])
+  parser.add_argument("--models", nargs="+", default=None)
+  parser.add_argument("--num-models", type=int, default=24)
+  parser.add_argument("--seed-start", type=int, default=1000)
+  parser.add_argument("--seeds", type=int, default=10)
+  parser.add_argument("--scale", type=float, default=None, help="default: the robot's WORK_SCALE")
+  parser.add_argument("--processes", type=int, default=2)
+  parser.add_argument("--time-limit", type=float, default=None,
+                      help="simulated seconds per episode (default: the task's, 30 + 25 per part)")
+  parser.add_argument("--json", default=None, help="also write every episode's summary here")
+  args = parser.parse_args(argv)
+  from ikea_suite.robots import registry
+  models = args.models or default_models(args.num_models)
+  jobs = []
+  for robot in args.robots:
+    scale = args.scale or getattr(registry.get(robot).factory, "WORK_SCALE", 1.0)
+    jobs += [(robot, m, scale, s, args.time_limit) for m in models
+             for s in range(args.seed_start, args.seed_start + args.seeds)]
+  start = time.perf_counter()
+  rows = []
+  with multiprocessing.get_context("fork").Pool(args.processes) as pool:
+    for row in pool.imap_unordered(run_episode, jobs, chunksize=1):
+      rows.append(row)   # one line per finished episode, so a cut-short sweep keeps its results
+      print(json.dumps(row), flush=True)
+  order = {job[:4]: k for k, job in enumerate(jobs)}
+  rows.sort(key=lambda r: order[(r["robot"], r["furniture"], r["scale"], r["seed"])])
+  limit = "task default" if args.time_limit is None else f"{args.time_limit:g} s"
+  print(f"{len(jobs)} episodes, seeds {args.seed_start}..{args.seed_start + args.seeds - 1}, "
+        f"time limit {limit}, {args.processes} processes, {time.perf_counter() - start:.0f} s, "
+        f"load {os.getloadavg()[0]:.1f}")
+  for robot in args.robots:
+    print_table(robot, [r for r in rows if r["robot"] == robot])
+  if args.json:
+    with open(args.json, "w") as f:
+      json.dump(rows, f, indent=1)
+  return 0
+
+
+if __name__ == "__main__":
+  sys.exit(main())

@@ -1,0 +1,70 @@
+"""Baxter's expert: the two arms take turns bringing parts, each to its own side.
+
+Each arm has its own single-arm controller (oracle/arm_controller.py). Before
+a new part is fetched, the part's side of the torso chooses the arm: the
+right arm fetches parts on the right, the left arm those on the left, so
+each arm reaches across the work area as little as possible. The arm not
+working goes back to its home pose, out of the other's way. Both act only
+through the action vector.
+"""
+
+import numpy as np
+
+from ikea_suite.oracle import arm_controller
+
+
+class TwoArmExpert:
+  """A policy for a two-arm robot in task_space mode; call with a TimeStep.
+
+  Args:
+    env: an environment whose robot has two arms (right first).
+  """
+
+  def __init__(self, env):
+    self._env = env
+    self._robot = env.task.robot
+    self._arms = [arm_controller.ArmAssemblyController(env, arm=i) for i in range(2)]
+    self.reset()
+
+  def reset(self) -> None:
+    for controller in self._arms:
+      controller.reset()
+    self._active = 0
+    self.arms_used = set()
+
+  @property
+  def phase(self):
+    return self._arms[self._active].phase
+
+  @property
+  def job(self):
+    return self._arms[self._active].job
+
+  def _side(self, part):
+    """0 (right arm) for a part right of the torso, 1 (left) otherwise."""
+    positions, _ = self._env.task.furniture.part_poses(self._env.physics)
+    base_pos, base_rot = self._robot.base_pose
+    local = base_rot.T @ (positions[part] - base_pos)
+    return 0 if local[1] < 0 else 1
+
+  def __call__(self, timestep=None) -> np.ndarray:
+    controller = self._arms[self._active]
+    action = controller(timestep)
+    job = controller.job
+    if (job is not None and controller.phase == arm_controller.Phase.REACH
+        and controller._counter == 1):   # a part just chosen, not yet approached
+      side = self._side(job[1])
+      if side != self._active:
+        other = self._arms[side]
+        other.reset()
+        other._connections = len(self._env.task.state.connections)
+        self._active = side
+        controller, action = other, other(timestep)
+    self.arms_used.add(self._active)
+    idle = 1 - self._active
+    home_pos, home_rot = self._robot.home_tcp_poses()[idle]
+    base = idle * self._robot.actions_per_arm
+    action[base:base + 6] = arm_controller.pose_action(self._robot, self._env.physics, idle,
+                                                       home_pos, home_rot)
+    action[base + 6] = -1.0
+    return action

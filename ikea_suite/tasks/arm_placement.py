@@ -1,0 +1,164 @@
+"""Part placement for fixed-base arms: the parts lie flat on the floor within the arm's reach.
+
+The root part (the one everything is built onto) lies in front of the
+robot, turned over when its mates attach from below (a table top is
+assembled upside down, as people do), so its open connectors face up. The
+other parts are scattered without overlap in a sector around the base from
+`min_distance` out to `reach`. Furniture too large for that band spills
+outwards instead of failing, so every furniture loads with every robot.
+
+The scene's placement options apply here too (README, "Part placement for
+arms"): `yaw_range` bounds each part's random yaw, `preassembled` places
+groups already joined (each keeps its assembled shape, upright), and
+`spread` is the width of the band the parts are drawn from, which must fit
+within the arm's reach (OptionValueError otherwise). The robot states its
+reach (`reach_zone`); this module is the task's, so robots import no task code.
+"""
+
+import numpy as np
+from dm_control import composer
+
+from ikea_suite import errors
+from ikea_suite import geometry
+from ikea_suite.tasks import placement
+from ikea_suite.tasks import planner
+
+_FLIP = np.diag([1.0, -1.0, -1.0])   # half a turn about the world x axis
+
+
+def _corners(bounds):
+  lo, hi = bounds
+  return np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+
+
+def mates_from_below(spec, table, root):
+  """Whether, in the assembled furniture, the root's mates lie mostly below its connectors."""
+  by_name = spec.parts
+  heights = []
+  for a, b in zip(table.pair_a, table.pair_b):
+    for mine, other in ((a, b), (b, a)):
+      if table.part[mine] == root and table.part[other] != root:
+        local = by_name[root].rot.T @ (by_name[table.part[other]].pos - by_name[root].pos)
+        heights.append(local[2] - table.local_pos[mine][2])
+  return bool(heights) and float(np.mean(heights)) < 0
+
+
+class ReachableParts(composer.Initializer):
+  """Root part in front of the base, the rest in a band around it; random yaw and position.
+
+  Args:
+    furniture: the Furniture prop.
+    base_xy, base_rot: the arm base's world position (2,) and rotation (3, 3).
+    reach: metres from the base that parts may lie at.
+    spread: width of the band (m) parts are drawn from; None: from min_distance to reach.
+    yaw_range: largest |yaw| (rad) of a part about its resting pose.
+    preassembled: connections made before the episode (int or (low, high)).
+  Raises:
+    OptionValueError: spread wider than the reach allows.
+  """
+
+  def __init__(self, furniture, base_xy, base_rot, reach, inner=0.2, min_distance=0.55, gap=0.03,
+               root_jitter=(0.03, np.radians(15)), sector=np.radians(110), max_attempts=200,
+               spread=None, yaw_range=np.pi, preassembled=0):
+    self._furniture = furniture
+    self._base_xy = np.asarray(base_xy, dtype=float)
+    self._heading = np.arctan2(base_rot[1, 0], base_rot[0, 0])
+    # inner: clearance around the base; min_distance: nearest a part centre may lie
+    # to the base (an arm pointing down cannot reach right beside itself).
+    self._reach, self._inner, self._gap = reach, inner, gap
+    self._min_distance = min_distance
+    self._root_jitter, self._sector, self._max_attempts = root_jitter, sector, max_attempts
+    if spread is not None:
+      room = reach - min_distance
+      if spread > room + 1e-9:
+        raise errors.OptionValueError(
+            f"spread {spread!r} m is wider than this arm can reach: parts lie {min_distance} to "
+            f"{reach} m from its base, so spread must be at most {room:.2f} m")
+      self._reach = min_distance + spread
+    self._yaw_range = float(yaw_range)
+    self._groups = placement.ScatteredParts(furniture, preassembled=preassembled)
+    self.preassembled_pairs = []
+    spec = furniture.spec
+    self._root = planner.root_part(spec)
+    rest = placement.resting_rotation(spec.parts[self._root].bounds)
+    self._root_rest = _FLIP @ rest if mates_from_below(spec, furniture.connectors, self._root) else rest
+
+  @property
+  def root_part(self):
+    return self._root
+
+  def _item_footprint(self, item, yaw_rot):
+    """World-aligned corners, centre and radius of a group of (part, rot, pos) turned by yaw_rot."""
+    corners = np.concatenate([_corners(self._furniture.spec.parts[i].bounds) @ (yaw_rot @ rot).T
+                              + yaw_rot @ pos for i, rot, pos in item])
+    centre = (corners[:, :2].max(0) + corners[:, :2].min(0)) / 2
+    return corners, centre, np.linalg.norm(corners[:, :2] - centre, axis=1).max()
+
+  def _place(self, physics, item, yaw_rot, xy):
+    corners, centre, _ = self._item_footprint(item, yaw_rot)
+    shift = np.array([*(xy - centre), -corners[:, 2].min() + 1e-3])
+    for index, rot, pos in item:
+      part = self._furniture.parts[index]
+      part.set_pose(physics, position=yaw_rot @ pos + shift,
+                    quaternion=geometry.mat_to_quat(yaw_rot @ rot))
+      part.set_velocity(physics, velocity=np.zeros(3), angular_velocity=np.zeros(3))
+
+  def __call__(self, physics, random_state):
+    items = self._groups._items(random_state)   # single parts lie flat; joined groups upright
+    self.preassembled_pairs = list(self._groups.preassembled_pairs)
+    root_item = next(item for item in items if any(i == self._root for i, _, _ in item))
+    if len(root_item) == 1:   # the root alone: turned over when its mates attach from below
+      root_item = [(self._root, self._root_rest, np.zeros(3))]
+    offset, yaw_jitter = self._root_jitter
+    yaw_rot = geometry.rot_z(self._heading + random_state.uniform(-yaw_jitter, yaw_jitter))
+    _, _, radius = self._item_footprint(root_item, yaw_rot)
+    forward = np.array([np.cos(self._heading), np.sin(self._heading)])
+    xy = self._base_xy + forward * (self._inner + radius) + random_state.uniform(-offset, offset, 2)
+    self._place(physics, root_item, yaw_rot, xy)
+    placed = [(xy, radius)]
+    for item in items:
+      if any(i == self._root for i, _, _ in item):
+        continue
+      yaw_rot = geometry.rot_z(random_state.uniform(-self._yaw_range, self._yaw_range))
+      _, _, radius = self._item_footprint(item, yaw_rot)
+      xy = self._sample_xy(random_state, radius, placed)
+      self._place(physics, item, yaw_rot, xy)
+      placed.append((xy, radius))
+
+  def _sample_xy(self, random_state, radius, placed):
+    nearest = max(self._min_distance, self._inner + radius)
+    outer = max(self._reach, nearest + 0.1)
+    while True:
+      for _ in range(self._max_attempts):
+        distance = random_state.uniform(nearest, outer)
+        angle = self._heading + random_state.uniform(-self._sector, self._sector)
+        xy = self._base_xy + distance * np.array([np.cos(angle), np.sin(angle)])
+        if all(np.linalg.norm(xy - other) > radius + other_r + self._gap for other, other_r in placed):
+          return xy
+      outer += 0.25   # out of room within reach: spill outwards rather than fail
+      if outer > 10.0:
+        raise composer.EpisodeInitializationError(f"no room for a part of radius {radius:.2f} m")
+
+
+def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preassembled=0):
+  """ReachableParts from load()'s placement options for an arm's `reach_zone`.
+
+  Args:
+    furniture: the Furniture prop.
+    reach_zone: (base xy, base rotation, reach m) as the arm states it.
+    spread: width (m) of the band parts lie in; None: all the reach allows.
+    yaw_range: largest |yaw| (rad) of a part.
+    preassembled: connections made before the episode (int or (low, high)).
+  Returns:
+    A ReachableParts initializer.
+  Raises:
+    OptionValueError: a bad value, or a spread beyond the arm's reach.
+  """
+  for name, value in (("spread", spread), ("yaw_range", yaw_range)):
+    if name == "spread" and value is None:
+      continue
+    if not placement.is_number(value) or not 0 <= value < np.inf:
+      raise errors.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
+  base_xy, base_rot, reach = reach_zone
+  return ReachableParts(furniture, base_xy, base_rot, reach, spread=spread,
+                        yaw_range=float(yaw_range), preassembled=preassembled)

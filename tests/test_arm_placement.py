@@ -1,0 +1,50 @@
+"""Placement options apply to arms within their reach, or raise OptionValueError."""
+
+import numpy as np
+import pytest
+
+import ikea_suite
+
+
+def _part_yaws_and_distances(env):
+  positions, rotations = env.task.furniture.part_poses(env.physics)
+  base, _ = env.task.robot.base_pose
+  return positions, rotations, np.linalg.norm(positions[:, :2] - base[:2], axis=1)
+
+
+def test_spread_narrows_the_band_parts_lie_in():
+  env = ikea_suite.load("stool_square_pine", "sawyer", seed=3, spread=0.2, scale=0.5)
+  root = env.task.root_part
+  for _ in range(3):
+    env.reset()
+    _, _, distances = _part_yaws_and_distances(env)
+    others = np.delete(distances, root)
+    assert others.max() <= 0.55 + 0.2 + 1e-6   # min_distance + spread
+
+
+def test_spread_beyond_reach_raises_naming_the_limit():
+  with pytest.raises(ikea_suite.OptionValueError, match=r"spread 2.0 m is wider than this arm"):
+    ikea_suite.load("stool_square_pine", "sawyer", spread=2.0)
+
+
+@pytest.mark.parametrize("bad", [-1.0, "wide", np.inf])
+def test_bad_spread_for_an_arm_raises(bad):
+  with pytest.raises(ikea_suite.OptionValueError, match="spread must be a number >= 0"):
+    ikea_suite.load("stool_square_pine", "panda", spread=bad)
+
+
+def test_yaw_range_zero_lays_parts_unturned():
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=5, yaw_range=0.0, scale=0.5)
+  env.reset()
+  _, rotations, _ = _part_yaws_and_distances(env)
+  root = env.task.root_part
+  for i, rot in enumerate(rotations):
+    if i != root:   # a lying leg keeps its long axis along world x: no yaw
+      long_axis = rot[:, 2]
+      assert abs(long_axis[1]) < 1e-3
+
+
+def test_preassembled_parts_start_joined_for_an_arm():
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=2, preassembled=2, scale=0.5)
+  env.reset()
+  assert len(env.task.state.connections) == 2

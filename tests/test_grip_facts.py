@@ -1,0 +1,154 @@
+"""Grippers carry the manufacturers' figures and hold real-mass parts by friction alone.
+
+Each hold test stands a part of its catalog mass (never lightened) in front
+of the arm, moves the other parts out of the way (test set-up), then acts
+only through the action vector: down to the part, close, lift, and for 3 s
+carry it round a circle while turning the wrist. The part may slip in the
+fingers by less than 5 mm, and falls when the gripper opens.
+"""
+
+import numpy as np
+import pytest
+
+import ikea_suite
+from ikea_suite import geometry
+from ikea_suite.oracle import arm_controller
+from ikea_suite.robots import grippers
+
+# (sheet, force N, stroke m): the published figures the sheets must carry.
+_FIGURES = [("panda_gripper", 70.0, 0.08), ("rethink_gripper", 22.0, 0.0647),
+            ("kinova_hand", 25.0, 0.086)]
+
+
+@pytest.mark.parametrize("sheet,force,stroke", _FIGURES)
+def test_grip_figures_have_sources(sheet, force, stroke):
+  facts = grippers.grip_facts(sheet)
+  assert facts.force == force and facts.stroke == pytest.approx(stroke)
+  assert facts.peak_force >= facts.force
+  for figure in ("force_continuous_n", "stroke_m", "finger_friction"):
+    assert len(facts.sources[figure]) > 20   # a written source, not a placeholder
+
+
+@pytest.mark.parametrize("robot,sheet", [("sawyer", "rethink_gripper"), ("panda", "panda_gripper"),
+                                         ("baxter", "rethink_gripper")])
+def test_finger_actuators_are_limited_to_the_published_grasp_force(robot, sheet):
+  env = ikea_suite.load("table_four_leg_lack", robot)
+  physics, arm_robot = env.physics, env.task.robot
+  for arm in range(arm_robot.num_arms):
+    limits = physics.model.actuator_forcerange[arm_robot._finger_act[arm]]
+    np.testing.assert_allclose(np.abs(limits), grippers.grip_facts(sheet).force)
+
+
+def _stand_part(env, part, pose_rot, xy):
+  """Test set-up: `part` stands at `xy` turned by `pose_rot`; every other part is moved away."""
+  physics, furniture = env.physics, env.task.furniture
+  for i, other in enumerate(furniture.parts):
+    if i != part:
+      other.set_pose(physics, position=np.array([3.0 + i, 3.0, 0.2]))
+  lo, hi = furniture.spec.parts[part].bounds
+  corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                      for z in (lo[2], hi[2])]) @ pose_rot.T
+  furniture.parts[part].set_pose(
+      physics, position=np.array([*xy, -corners[:, 2].min() + 1e-3]),
+      quaternion=geometry.mat_to_quat(pose_rot))
+  physics.forward()
+  return corners[:, 2].max() - corners[:, 2].min()
+
+
+def _drive(env, arm, goal_pos, goal_rot, grip, steps, tolerance=0.004):
+  robot, physics = env.task.robot, env.physics
+  action = np.zeros(env.action_spec().shape)
+  for _ in range(steps):
+    action[:6] = arm_controller.pose_action(robot, physics, arm, goal_pos, goal_rot)
+    action[6] = grip
+    env.step(action)
+    if arm_controller.pose_error(robot, physics, arm, goal_pos, goal_rot)[0] < tolerance:
+      return True
+  return False
+
+
+def _hold_test(robot_name, furniture_name, part_name, standing):
+  env = ikea_suite.load(furniture_name, robot_name, seed=0)
+  env.reset()
+  physics, robot, furniture = env.physics, env.task.robot, env.task.furniture
+  part = furniture.spec.part_index(part_name)
+  bounds = furniture.spec.parts[part].bounds
+  thin = int(np.argmin(bounds[1] - bounds[0]))
+  base_pos, _ = robot.base_pose
+  xy = base_pos[:2] + [0.6, 0.0]
+  # Part frame -> world: the long axis along world x; standing parts put their
+  # thin axis along world y (gripped across it), lying parts keep it vertical.
+  axes = np.argsort(bounds[1] - bounds[0])[::-1]
+  rot = np.zeros((3, 3))
+  if standing:
+    rot[0, axes[0]], rot[2, axes[1]], rot[1, thin] = 1.0, 1.0, 1.0
+  else:
+    rot[0, axes[0]], rot[1, axes[1]], rot[2, thin] = 1.0, 1.0, 1.0
+  if np.linalg.det(rot) < 0:
+    rot[1] *= -1
+  height = _stand_part(env, part, rot, xy)
+  mass = physics.model.body_mass[furniture.body_ids[part]]
+  assert mass == pytest.approx(furniture.spec.parts[part].mass, rel=1e-6)   # the catalog mass
+  for _ in range(10):   # let it settle
+    env.step(np.zeros(env.action_spec().shape))
+  part_pos = physics.data.xpos[furniture.body_ids[part]].copy()
+  # Fingers close along world y, across the part's thin side (standing) or its width (lying).
+  controller = arm_controller.ArmAssemblyController(env)
+  _, home_rot = robot.tcp_pose(physics)
+  candidates = [arm_controller.tool_rotation(np.array([0.0, 0.0, -1.0]), closing,
+                                             controller._closing_local())
+                for closing in (np.array([0.0, 1.0, 0.0]), np.array([0.0, -1.0, 0.0]))]
+  tool_rot = min(candidates, key=lambda r: np.linalg.norm(geometry.mat_to_axis_angle(r @ home_rot.T)))
+  grasp = np.array([*part_pos[:2], part_pos[2] + height / 2 - min(0.03, height / 2)])
+  assert _drive(env, 0, grasp + [0, 0, 0.12], tool_rot, -1.0, 200, tolerance=0.01)
+  assert _drive(env, 0, grasp, tool_rot, -1.0, 200)
+  action = np.zeros(env.action_spec().shape)
+  for _ in range(10):   # close on the part
+    action[:6] = arm_controller.pose_action(robot, physics, 0, grasp, tool_rot)
+    action[6] = 1.0
+    env.step(action)
+  assert not physics.data.eq_active.any(), "no weld may hold the part"
+
+  def part_in_tool():
+    pos = physics.data.xpos[furniture.body_ids[part]]
+    tcp_pos, tcp_rot = robot.tcp_pose(physics)
+    return tcp_rot.T @ (pos - tcp_pos)
+
+  _drive(env, 0, grasp + [0, 0, 0.2], tool_rot, 1.0, 60, tolerance=0.01)
+  start = part_in_tool()
+  lifted = physics.data.xpos[furniture.body_ids[part]][2]
+  assert lifted > part_pos[2] + 0.1
+  steps = int(round(3.0 / env.control_timestep()))
+  tcp_path, slip = [], []
+  for k in range(steps):   # 3 s: a horizontal circle while the wrist turns back and forth
+    phase = 2 * np.pi * k / steps
+    action = np.zeros(env.action_spec().shape)
+    action[:2] = 0.5 * np.array([-np.sin(phase), np.cos(phase)])
+    action[5] = 0.6 * np.cos(phase)
+    action[6] = 1.0
+    env.step(action)
+    tcp_path.append(robot.tcp_pose(physics)[0])
+    slip.append(np.linalg.norm(part_in_tool() - start))
+  assert np.ptp(np.array(tcp_path)[:, :2], axis=0).max() > 0.1   # the arm really carried it
+  assert max(slip) < 0.005, f"slipped {1000 * max(slip):.1f} mm holding {mass:.2f} kg"
+  assert not physics.data.eq_active.any()
+  action = np.zeros(env.action_spec().shape)
+  action[6] = -1.0   # open: friction was all that held it
+  for _ in range(25):
+    env.step(action)
+  assert physics.data.xpos[furniture.body_ids[part]][2] < lifted - 0.1
+  return mass, max(slip)
+
+
+_LEG = ("table_four_leg_lack", "leg0", False)                 # 0.19 kg, 5 cm square, lying
+_SHELF = ("bookcase_shelf_unit_billy", "shelf0", True)         # 1.5 kg, 18 mm panel, on edge
+# Not yet held by the Sawyer (measured, reported in issue 9's closing note): its 8 mm
+# fingertips let the 1.5 kg shelf swing about the finger axis and out of the 22 N grasp
+# within 1 s, and a 12 mm box wall standing on edge is pushed over by the first finger.
+_CASES = [("sawyer", _LEG), ("panda", _LEG), ("panda", _SHELF)]
+
+
+@pytest.mark.parametrize("robot,part", _CASES, ids=[f"{r}-{p[1]}" for r, p in _CASES])
+def test_arm_holds_a_real_mass_part_while_carrying_and_turning_it(robot, part):
+  mass, slip = _hold_test(robot, *part)
+  assert mass > 0.15 and slip < 0.005
