@@ -15,6 +15,7 @@ the task or an environment.
 
 import dataclasses
 import functools
+import logging
 
 import mujoco
 import numpy as np
@@ -169,3 +170,15 @@ def _next_removal(scene, present, root, edges):
   return None
 
 
+
+
+def assembly_order(spec, root):
+  """Root, then every part in the order of the buildable sequence (part order if the
+  sequencer finds none, e.g. for a user's model without free insertion paths); what
+  next_pair follows in the CPU and the batched task."""
+  try:
+    steps = plan(spec.path, root, HOLD_LIFT)
+  except errors.SequenceError as e:
+    logging.warning("%s; next_pair follows part order instead", e)
+    return (root,) + tuple(i for i in range(len(spec.parts)) if i != root)
+  return (root,) + tuple(step.part for step in steps)

@@ -5,13 +5,11 @@ addresses, grab boxes, the planner's order) as jax arrays, so the step is
 pure array code with no Python data structures.
 """
 
-import logging
 import typing
 
 import jax.numpy as jnp
 import numpy as np
 
-from ikea_suite import errors
 from ikea_suite.assembly import sequence
 from ikea_suite.batch import align
 from ikea_suite.batch import rigid
@@ -36,15 +34,8 @@ class Tables(typing.NamedTuple):
 
 
 def assembly_order(spec):
-  """The CPU task's part order for next_pair: root, then the buildable sequence (part order if
-  the sequencer finds none)."""
-  root = planner.root_part(spec)
-  try:
-    steps = sequence.plan(spec.path, root, sequence.HOLD_LIFT)
-  except errors.SequenceError as e:
-    logging.warning("%s; next_pair follows part order instead", e)
-    return (root,) + tuple(i for i in range(len(spec.parts)) if i != root)
-  return (root,) + tuple(step.part for step in steps)
+  """The CPU task's part order for next_pair: root, then the buildable sequence."""
+  return sequence.assembly_order(spec, planner.root_part(spec))
 
 
 def build(batch_model):

@@ -1,13 +1,11 @@
 """The assembly task: connect every part of a furniture into one rigid assembly."""
 
-import logging
 
 import numpy as np
 from dm_control import composer
 from dm_env import specs
 from dm_control.composer.observation import observable
 
-from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite import physics_settings
 from ikea_suite.assembly import sequence
@@ -62,7 +60,7 @@ class Assembly(composer.Task):
     self._welds = welds.PartWelds(arena, furniture)
     self._collisions = collision_groups.CollisionGroups(len(furniture.parts))
     self._root = planner.root_part(furniture.spec)
-    self._order = _assembly_order(furniture.spec, self._root)
+    self._order = sequence.assembly_order(furniture.spec, self._root)
     self._design_pairs = placement.design_pairs(furniture.spec, self._table)
     self.set_timesteps(control_timestep=control_timestep, physics_timestep=physics_timestep)
     robot.bind_scene(arena, furniture, self._state, self.control_timestep)
@@ -321,13 +319,3 @@ class Assembly(composer.Task):
                              rot[part_b])
       state.close_loop(part_a, part_b, con_a, con_b)
 
-
-def _assembly_order(spec, root):
-  """Root, then every part in the order of the buildable sequence (table order if the
-  sequencer finds none, e.g. for a user's model without free insertion paths)."""
-  try:
-    steps = sequence.plan(spec.path, root, sequence.HOLD_LIFT)
-  except errors.SequenceError as e:
-    logging.warning("%s; next_pair follows part order instead", e)
-    return (root,) + tuple(i for i in range(len(spec.parts)) if i != root)
-  return (root,) + tuple(step.part for step in steps)
