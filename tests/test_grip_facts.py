@@ -13,6 +13,7 @@ import pytest
 import ikea_suite
 from ikea_suite import geometry
 from ikea_suite.oracle import arm_controller
+from ikea_suite.oracle import arm_motion
 from ikea_suite.robots import grippers
 
 # (sheet, force N, stroke m): the published figures the sheets must carry.
@@ -59,10 +60,10 @@ def _drive(env, arm, goal_pos, goal_rot, grip, steps, tolerance=0.004):
   robot, physics = env.task.robot, env.physics
   action = np.zeros(env.action_spec().shape)
   for _ in range(steps):
-    action[:6] = arm_controller.pose_action(robot, physics, arm, goal_pos, goal_rot)
+    action[:6] = arm_motion.pose_action(robot, physics, arm, goal_pos, goal_rot)
     action[6] = grip
     env.step(action)
-    if arm_controller.pose_error(robot, physics, arm, goal_pos, goal_rot)[0] < tolerance:
+    if arm_motion.pose_error(robot, physics, arm, goal_pos, goal_rot)[0] < tolerance:
       return True
   return False
 
@@ -95,7 +96,7 @@ def _hold_test(robot_name, furniture_name, part_name, standing):
   # Fingers close along world y, across the part's thin side (standing) or its width (lying).
   controller = arm_controller.ArmAssemblyController(env)
   _, home_rot = robot.tcp_pose(physics)
-  candidates = [arm_controller.tool_rotation(np.array([0.0, 0.0, -1.0]), closing,
+  candidates = [arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing,
                                              controller._closing_local())
                 for closing in (np.array([0.0, 1.0, 0.0]), np.array([0.0, -1.0, 0.0]))]
   tool_rot = min(candidates, key=lambda r: np.linalg.norm(geometry.mat_to_axis_angle(r @ home_rot.T)))
@@ -104,7 +105,7 @@ def _hold_test(robot_name, furniture_name, part_name, standing):
   assert _drive(env, 0, grasp, tool_rot, -1.0, 200)
   action = np.zeros(env.action_spec().shape)
   for _ in range(10):   # close on the part
-    action[:6] = arm_controller.pose_action(robot, physics, 0, grasp, tool_rot)
+    action[:6] = arm_motion.pose_action(robot, physics, 0, grasp, tool_rot)
     action[6] = 1.0
     env.step(action)
   assert not physics.data.eq_active.any(), "no weld may hold the part"

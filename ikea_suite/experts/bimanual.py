@@ -11,6 +11,7 @@ through the action vector.
 import numpy as np
 
 from ikea_suite.oracle import arm_controller
+from ikea_suite.oracle import arm_motion
 
 
 class TwoArmExpert:
@@ -64,7 +65,7 @@ class TwoArmExpert:
     idle = 1 - self._active
     home_pos, home_rot = self._robot.home_tcp_poses()[idle]
     base = idle * self._robot.actions_per_arm
-    action[base:base + 6] = arm_controller.pose_action(self._robot, self._env.physics, idle,
+    action[base:base + 6] = arm_motion.pose_action(self._robot, self._env.physics, idle,
                                                        home_pos, home_rot)
     action[base + 6] = -1.0
     return action

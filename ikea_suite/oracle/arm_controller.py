@@ -14,6 +14,7 @@ import numpy as np
 
 from ikea_suite import errors
 from ikea_suite import geometry
+from ikea_suite.oracle import arm_motion
 from ikea_suite.oracle import targets
 from ikea_suite.robots import control_modes
 from ikea_suite.tasks import planner
@@ -30,34 +31,6 @@ class Phase(enum.Enum):
   INSERT = "insert"     # close the last gap and connect
   RELEASE = "release"   # open the gripper on the joined part
   RETREAT = "retreat"   # back off before the next part
-
-
-def tool_rotation(approach, closing, closing_local):
-  """Tool rotation whose z axis is `approach` and whose finger axis (`closing_local`) is `closing`."""
-  local_b = np.cross([0.0, 0.0, 1.0], closing_local)
-  world_b = np.cross(approach, closing)
-  local = np.column_stack([closing_local, local_b, [0.0, 0.0, 1.0]])
-  world = np.column_stack([closing, world_b, approach])
-  return world @ local.T
-
-
-def pose_action(robot, physics, arm, goal_pos, goal_rot, gain=0.6, max_turn=1.0):
-  """Task-space action entries (6) moving the measured tool towards a goal pose.
-
-  Acting on the measured error each step (the robot integrates deltas into
-  its target) removes steady-state tracking offsets, e.g. from a held load.
-  """
-  pos, rot = robot.tcp_pose(physics, arm)
-  move = gain * (goal_pos - pos) / robot._targets._max_translation
-  turn = gain * geometry.mat_to_axis_angle(goal_rot @ rot.T) / robot._targets._max_rotation
-  move /= max(1.0, np.abs(move).max())
-  turn *= max_turn / max(max_turn, np.abs(turn).max())
-  return np.concatenate([move, turn])
-
-
-def pose_error(robot, physics, arm, goal_pos, goal_rot):
-  pos, rot = robot.tcp_pose(physics, arm)
-  return np.linalg.norm(goal_pos - pos), np.linalg.norm(geometry.mat_to_axis_angle(goal_rot @ rot.T))
 
 
 class ArmAssemblyController:
@@ -173,7 +146,7 @@ class ArmAssemblyController:
       long_axis = np.array([1.0, 0.0, 0.0])
     long_axis /= np.linalg.norm(long_axis)
     closing = np.cross([0.0, 0.0, 1.0], long_axis) * (self._grasp_sign if sign is None else sign)
-    return point, tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self._closing_local())
+    return point, arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self._closing_local())
 
   def _choose_grasp_sign(self, moving):
     """Which of the two symmetric grasps leaves the arm the easier mating motion."""
@@ -312,8 +285,8 @@ class ArmAssemblyController:
       point, rot = self._grasp_pose(moving)
       goal = point + [0.0, 0.0, self._hover] if phase == Phase.REACH else point
       waypoint = self._arc_waypoint(self._over_assembly(goal)) if phase == Phase.REACH else goal
-      poses[:] = pose_action(robot, physics, arm, waypoint, rot)
-      distance, angle = pose_error(robot, physics, arm, goal, rot)
+      poses[:] = arm_motion.pose_action(robot, physics, arm, waypoint, rot)
+      distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
       self._stalled += 1
       if self._stalled > self._stall_steps:   # cannot get there: try another part
         self._unreachable.add(moving)
@@ -327,14 +300,14 @@ class ArmAssemblyController:
         self.phase, self._counter, self._stalled = Phase.CLOSE, 0, 0
         self._grasp = (goal, rot)
     elif phase == Phase.CLOSE:
-      poses[:] = pose_action(robot, physics, arm, *self._grasp)
+      poses[:] = arm_motion.pose_action(robot, physics, arm, *self._grasp)
       self._counter += 1
       if self._counter >= self._close_steps:
         self.phase = Phase.LIFT
     elif phase == Phase.LIFT:
       goal = self._grasp[0] + [0.0, 0.0, self._lift - self._grasp[0][2]]
-      poses[:] = pose_action(robot, physics, arm, goal, self._grasp[1])
-      if pose_error(robot, physics, arm, goal, self._grasp[1])[0] < 0.03:
+      poses[:] = arm_motion.pose_action(robot, physics, arm, goal, self._grasp[1])
+      if arm_motion.pose_error(robot, physics, arm, goal, self._grasp[1])[0] < 0.03:
         self.phase = Phase.ALIGN
     elif phase in (Phase.ALIGN, Phase.INSERT):
       if not self._holding(moving):
@@ -359,13 +332,14 @@ class ArmAssemblyController:
       if self._carrying:   # first over the goal at carry height, then down to it
         high = goal[0] + [0.0, 0.0, max(0.0, self._carry - goal[0][2])]
         # Turning slowly keeps a held part from swinging out of the fingers.
-        poses[:] = pose_action(robot, physics, arm, self._arc_waypoint(high), goal[1], max_turn=0.3)
-        distance, angle = pose_error(robot, physics, arm, high, goal[1])
+        poses[:] = arm_motion.pose_action(robot, physics, arm, self._arc_waypoint(high), goal[1],
+                                          max_turn=0.3)
+        distance, angle = arm_motion.pose_error(robot, physics, arm, high, goal[1])
         self._carrying = not (distance < 0.03 and angle < 0.05)
         return action
       # Closing the last centimetres slowly keeps the arm from hunting about the goal
       # (measured at scale 0.5: +-1 cm oscillation at gain 0.6, the 5 mm gate never met).
-      poses[:] = pose_action(robot, physics, arm, *goal,
+      poses[:] = arm_motion.pose_action(robot, physics, arm, *goal,
                              gain=0.6 if phase == Phase.ALIGN else 0.3)
       current, rot = targets.part_pose(physics, task.furniture, moving)
       distance = np.linalg.norm(part_pos + offset * side - current)
@@ -382,9 +356,9 @@ class ArmAssemblyController:
         pos, rot = robot.tcp_pose(physics, arm)
         self._grasp = (pos - 0.1 * rot[:, 2] + [0.0, 0.0, 0.1], rot)
     elif phase == Phase.RETREAT:
-      poses[:] = pose_action(robot, physics, arm, *self._grasp)
+      poses[:] = arm_motion.pose_action(robot, physics, arm, *self._grasp)
       self._counter += 1
-      if pose_error(robot, physics, arm, *self._grasp)[0] < 0.03 or self._counter > 40:
+      if arm_motion.pose_error(robot, physics, arm, *self._grasp)[0] < 0.03 or self._counter > 40:
         self.phase, self._counter = Phase.REACH, 0
     return action
 
@@ -402,27 +376,19 @@ class ArmAssemblyController:
     groups = task.state.group_labels()
     top = 0.0
     for part in np.flatnonzero(groups == groups[task.root_part]):
-      lo, hi = task.furniture.spec.parts[part].bounds
-      corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
-                          for z in (lo[2], hi[2])]) @ rotations[part].T + positions[part]
+      corners = (geometry.box_corners(*task.furniture.spec.parts[part].bounds)
+                 @ rotations[part].T + positions[part])
       top = max(top, corners[:, 2].max())
     return np.array([goal[0], goal[1], max(goal[2], top + clearance + self._pad_below_or_zero())])
 
   def _pad_below_or_zero(self):
     return self._pad_below or 0.0
 
-  def _arc_waypoint(self, goal, max_turn=0.25, max_step=0.1):
+  def _arc_waypoint(self, goal):
     """A point on an arc around the base towards `goal`: carrying never sweeps across the base."""
     base, _ = self._robot.base_pose
     pos, _ = self._robot.tcp_pose(self._env.physics, self._arm)
-    here, there = pos[:2] - base[:2], goal[:2] - base[:2]
-    radius, target_radius = np.linalg.norm(here), np.linalg.norm(there)
-    angle = np.arctan2(here[1], here[0])
-    turn = np.angle(np.exp(1j * (np.arctan2(there[1], there[0]) - angle)))
-    angle += np.clip(turn, -max_turn, max_turn)
-    radius += np.clip(target_radius - radius, -max_step, max_step)
-    z = pos[2] + np.clip(goal[2] - pos[2], -max_step, max_step)
-    return np.array([base[0] + radius * np.cos(angle), base[1] + radius * np.sin(angle), z])
+    return arm_motion.arc_waypoint(base, pos, goal)
 
   def _attachable(self, pair):
     task = self._env.task
