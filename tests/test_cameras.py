@@ -3,7 +3,6 @@
 
 import numpy as np
 import pytest
-from dm_control import mjcf
 
 import ikea_suite
 from ikea_suite import errors

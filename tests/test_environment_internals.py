@@ -2,7 +2,6 @@
 batched-substep step gives exactly what composer's own step gives."""
 
 import numpy as np
-import pytest
 from dm_control import composer
 from dm_control.composer.observation import updater as updater_lib
 

@@ -28,7 +28,6 @@ import mujoco
 import numpy as np
 
 from ikea_suite import physics_settings
-from ikea_suite.arenas import floor as floor_lib
 from ikea_suite.batch import weld_table as weld_table_lib
 from ikea_suite.props import catalog
 from ikea_suite.props import connector_table

@@ -15,7 +15,6 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ikea_suite import geometry
 from ikea_suite.batch import observe
 from ikea_suite.batch import rigid
 from ikea_suite.batch import task_state
