@@ -59,8 +59,9 @@ def _stand_part(env, part, pose_rot, xy):
 def _drive(env, arm, goal_pos, goal_rot, grip, steps, tolerance=0.004):
   robot, physics = env.task.robot, env.physics
   action = np.zeros(env.action_spec().shape)
+  servo = arm_motion.PoseServo()
   for _ in range(steps):
-    action[:6] = arm_motion.pose_action(robot, physics, arm, goal_pos, goal_rot)
+    action[:6] = servo(robot, physics, arm, goal_pos, goal_rot)
     action[6] = grip
     env.step(action)
     if arm_motion.pose_error(robot, physics, arm, goal_pos, goal_rot)[0] < tolerance:
@@ -104,8 +105,9 @@ def _hold_test(robot_name, furniture_name, part_name, standing):
   assert _drive(env, 0, grasp + [0, 0, 0.12], tool_rot, -1.0, 200, tolerance=0.01)
   assert _drive(env, 0, grasp, tool_rot, -1.0, 200)
   action = np.zeros(env.action_spec().shape)
+  servo = arm_motion.PoseServo()
   for _ in range(10):   # close on the part
-    action[:6] = arm_motion.pose_action(robot, physics, 0, grasp, tool_rot)
+    action[:6] = servo(robot, physics, 0, grasp, tool_rot)
     action[6] = 1.0
     env.step(action)
   assert not physics.data.eq_active.any(), "no weld may hold the part"

@@ -25,11 +25,13 @@ class TwoArmExpert:
     self._env = env
     self._robot = env.task.robot
     self._arms = [arm_controller.ArmAssemblyController(env, arm=i) for i in range(2)]
+    self._idle_servos = [arm_motion.PoseServo() for _ in range(2)]
     self.reset()
 
   def reset(self) -> None:
-    for controller in self._arms:
+    for controller, servo in zip(self._arms, self._idle_servos):
       controller.reset()
+      servo.reset()
     self._active = 0
     self.arms_used = set()
 
@@ -65,7 +67,7 @@ class TwoArmExpert:
     idle = 1 - self._active
     home_pos, home_rot = self._robot.home_tcp_poses()[idle]
     base = idle * self._robot.actions_per_arm
-    action[base:base + 6] = arm_motion.pose_action(self._robot, self._env.physics, idle,
-                                                       home_pos, home_rot)
+    action[base:base + 6] = self._idle_servos[idle](self._robot, self._env.physics, idle,
+                                                    home_pos, home_rot)
     action[base + 6] = -1.0
     return action

@@ -36,7 +36,7 @@ class Phase(enum.Enum):
 class ArmAssemblyController:
   """Call with a TimeStep (or nothing); returns the action for `env`."""
 
-  def __init__(self, env, arm=0, hover=0.12, lift=0.45, carry=0.5, approach=0.08, tolerance=0.9,
+  def __init__(self, env, arm=0, hover=0.12, lift=0.12, carry=0.5, approach=0.08, tolerance=0.9,
                close_steps=8, release_steps=6, stall_steps=150):
     robot = env.task.robot
     if getattr(robot, "control_mode", None) != control_modes.TASK_SPACE:
@@ -49,6 +49,7 @@ class ArmAssemblyController:
     self._stall_steps = stall_steps
     self._pad_below = None   # measured at the first grasp, with the arm at home
     self._finger_bodies = None
+    self._servo = arm_motion.PoseServo()
     self.reset()
 
   def _measure_pad_below(self):
@@ -75,6 +76,7 @@ class ArmAssemblyController:
     return lowest
 
   def reset(self):
+    self._servo.reset()
     self.phase = Phase.REACH
     self._counter = 0
     self._connections = 0
@@ -149,7 +151,7 @@ class ArmAssemblyController:
     return point, arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self._closing_local())
 
   def _choose_grasp_sign(self, moving):
-    """Which of the two symmetric grasps leaves the arm the easier mating motion."""
+    """Which of the two symmetric grasps the wrist reaches best and leaves the easier mating."""
     physics, furniture = self._env.physics, self._env.task.furniture
     part_pos, part_rot = targets.part_pose(physics, furniture, moving)
     best = None
@@ -157,9 +159,12 @@ class ArmAssemblyController:
       point, rot = self._grasp_pose(moving, sign)
       grip = (part_rot.T @ (point - part_pos), part_rot.T @ rot)
       plan = self._plan_mating(moving, grip)
-      if plan is not None and (best is None or plan[0] < best[0]):
-        best = (plan[0], sign)
-    return 1.0 if best is None else best[1]
+      # A grasp the last wrist joint cannot turn to stalls the reach before any mating.
+      score = self._reach_cost(point + [0.0, 0.0, self._hover], rot) + (
+          10.0 if plan is None else plan[0])
+      if best is None or score < best[0]:
+        best = (score, sign)
+    return best[1]
 
   def _part_goal(self, pair, moving, twist):
     """Pose of `moving` that makes the pair's connectors coincide at `twist`; plus approach side."""
@@ -185,12 +190,7 @@ class ArmAssemblyController:
     task, physics, robot = self._env.task, self._env.physics, self._robot
     table, state = task.furniture.connectors, task.state
     groups = state.group_labels()
-    ik = robot._ik
-    q = physics.data.qpos[robot._ik_to_qpos].copy()
-    arm_q = ik.qpos_index[robot._arm_ik[self._arm]]
-    low, high = robot._joint_low[self._arm], robot._joint_high[self._arm]
-    base_pos, base_rot = robot.base_pose
-    current_poses = ik.tcp_poses(q)
+    base_pos, _ = robot.base_pose
     best = None
     for pair in np.flatnonzero(planner.open_pairs(table, state)):
       parts = {int(table.part[table.pair_a[pair]]), int(table.part[table.pair_b[pair]])}
@@ -204,24 +204,20 @@ class ArmAssemblyController:
         part_pos, part_rot, side = self._part_goal(pair, moving, twist)
         goal_pos, goal_rot = self._tool_goal_for_part(
             moving, part_pos + self._approach * side, part_rot, grip)
-        target = (base_rot.T @ (goal_pos - base_pos), base_rot.T @ goal_rot)
-        all_targets = list(current_poses)   # other arms (Baxter) keep their present poses
-        all_targets[self._arm] = target
-        solution = ik.solve(q, all_targets, iterations=40)
-        margin = np.minimum(solution[arm_q] - low, high - solution[arm_q])
-        pos, rot = ik.tcp_poses(solution)[self._arm]
-        miss = (np.linalg.norm(pos - target[0])
-                + 0.2 * np.linalg.norm(geometry.mat_to_axis_angle(rot @ target[1].T)))
         part_xy = task.furniture.part_poses(physics)[0][moving][:2]
         # A wrist folded in beside the base is cramped: the differential IK stalls there.
         wrist = goal_pos - 0.25 * goal_rot[:, 2]
         cramped = max(0.0, 0.45 - np.linalg.norm(wrist[:2] - base_pos[:2]))
-        score = (miss + 0.02 * np.linalg.norm(solution - q) + 2.0 * cramped
-                 + np.maximum(0.0, 0.3 - margin).sum()
+        score = (self._reach_cost(goal_pos, goal_rot) + 2.0 * cramped
                  + 0.3 * np.linalg.norm(goal_pos[:2] - part_xy))   # prefer mates nearby
         if best is None or score < best[0]:
           best = (score, int(pair), float(twist))
     return best
+
+  def _reach_cost(self, goal_pos, goal_rot):
+    """IK miss, joint travel and joints near their limits of a tool pose: lower is easier."""
+    miss, margin, travel = self._robot.reach_check(self._env.physics, self._arm, goal_pos, goal_rot)
+    return miss + 0.02 * travel + np.maximum(0.0, 0.3 - margin).sum()
 
   def _tool_goal_for_part(self, part, part_goal_pos, part_goal_rot, grip=None):
     """Tool pose that puts the held part at the goal, using the measured grip by default."""
@@ -285,7 +281,7 @@ class ArmAssemblyController:
       point, rot = self._grasp_pose(moving)
       goal = point + [0.0, 0.0, self._hover] if phase == Phase.REACH else point
       waypoint = self._arc_waypoint(self._over_assembly(goal)) if phase == Phase.REACH else goal
-      poses[:] = arm_motion.pose_action(robot, physics, arm, waypoint, rot)
+      poses[:] = self._servo(robot, physics, arm, waypoint, rot)
       distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
       self._stalled += 1
       if self._stalled > self._stall_steps:   # cannot get there: try another part
@@ -300,14 +296,18 @@ class ArmAssemblyController:
         self.phase, self._counter, self._stalled = Phase.CLOSE, 0, 0
         self._grasp = (goal, rot)
     elif phase == Phase.CLOSE:
-      poses[:] = arm_motion.pose_action(robot, physics, arm, *self._grasp)
+      poses[:] = self._servo(robot, physics, arm, *self._grasp)
       self._counter += 1
       if self._counter >= self._close_steps:
         self.phase = Phase.LIFT
     elif phase == Phase.LIFT:
-      goal = self._grasp[0] + [0.0, 0.0, self._lift - self._grasp[0][2]]
-      poses[:] = arm_motion.pose_action(robot, physics, arm, goal, self._grasp[1])
-      if arm_motion.pose_error(robot, physics, arm, goal, self._grasp[1])[0] < 0.03:
+      # Only clear of the floor: the carry rises further on its way in, since straight up
+      # is out of reach for a part at the edge of the work area.
+      goal = self._grasp[0] + [0.0, 0.0, self._lift]
+      poses[:] = self._servo(robot, physics, arm, goal, self._grasp[1])
+      self._counter += 1
+      if (arm_motion.pose_error(robot, physics, arm, goal, self._grasp[1])[0] < 0.03
+          or self._counter > self._close_steps + 40):   # as high as it goes: carry on
         self.phase = Phase.ALIGN
     elif phase in (Phase.ALIGN, Phase.INSERT):
       if not self._holding(moving):
@@ -332,14 +332,14 @@ class ArmAssemblyController:
       if self._carrying:   # first over the goal at carry height, then down to it
         high = goal[0] + [0.0, 0.0, max(0.0, self._carry - goal[0][2])]
         # Turning slowly keeps a held part from swinging out of the fingers.
-        poses[:] = arm_motion.pose_action(robot, physics, arm, self._arc_waypoint(high), goal[1],
+        poses[:] = self._servo(robot, physics, arm, self._arc_waypoint(high), goal[1],
                                           max_turn=0.3)
         distance, angle = arm_motion.pose_error(robot, physics, arm, high, goal[1])
         self._carrying = not (distance < 0.03 and angle < 0.05)
         return action
       # Closing the last centimetres slowly keeps the arm from hunting about the goal
       # (measured at scale 0.5: +-1 cm oscillation at gain 0.6, the 5 mm gate never met).
-      poses[:] = arm_motion.pose_action(robot, physics, arm, *goal,
+      poses[:] = self._servo(robot, physics, arm, *goal,
                              gain=0.6 if phase == Phase.ALIGN else 0.3)
       current, rot = targets.part_pose(physics, task.furniture, moving)
       distance = np.linalg.norm(part_pos + offset * side - current)
@@ -356,7 +356,7 @@ class ArmAssemblyController:
         pos, rot = robot.tcp_pose(physics, arm)
         self._grasp = (pos - 0.1 * rot[:, 2] + [0.0, 0.0, 0.1], rot)
     elif phase == Phase.RETREAT:
-      poses[:] = arm_motion.pose_action(robot, physics, arm, *self._grasp)
+      poses[:] = self._servo(robot, physics, arm, *self._grasp)
       self._counter += 1
       if arm_motion.pose_error(robot, physics, arm, *self._grasp)[0] < 0.03 or self._counter > 40:
         self.phase, self._counter = Phase.REACH, 0

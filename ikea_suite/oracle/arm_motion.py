@@ -15,18 +15,51 @@ def tool_rotation(approach, closing, closing_local):
   return world @ local.T
 
 
-def pose_action(robot, physics, arm, goal_pos, goal_rot, gain=0.6, max_turn=1.0):
-  """Task-space action entries (6) moving the measured tool towards a goal pose.
+class PoseServo:
+  """Task-space actions that bring one arm's tool to a goal pose without hunting.
 
-  Acting on the measured error each step (the robot integrates deltas into
-  its target) removes steady-state tracking offsets, e.g. from a held load.
+  The action moves the robot's own target (which it integrates from the deltas)
+  straight to the goal, so the target never winds up while the arm lags behind
+  it; the old way, feeding the measured error back each step, is an integrator
+  with a delay and oscillates wherever the arm is slow (measured: +-5 cm limit
+  cycles at the edge of the Sawyer's reach). A slow integral of the measured
+  error, gathered only near a goal that holds still, removes steady offsets
+  such as a held load's sag; it starts afresh whenever the goal moves on, so an
+  unreachable goal's wound-up offset never carries over to the next.
   """
-  pos, rot = robot.tcp_pose(physics, arm)
-  move = gain * (goal_pos - pos) / robot._targets._max_translation
-  turn = gain * geometry.mat_to_axis_angle(goal_rot @ rot.T) / robot._targets._max_rotation
-  move /= max(1.0, np.abs(move).max())
-  turn *= max_turn / max(max_turn, np.abs(turn).max())
-  return np.concatenate([move, turn])
+
+  def __init__(self, ki=0.15, near=0.03, max_offset=0.04, max_rot_offset=0.15, new_goal=0.005):
+    self._ki, self._near, self._new_goal = ki, near, new_goal
+    self._max_offset, self._max_rot_offset = max_offset, max_rot_offset
+    self.reset()
+
+  def reset(self):
+    self._offset, self._rot_offset = np.zeros(3), np.zeros(3)
+    self._goal = None
+
+  def __call__(self, robot, physics, arm, goal_pos, goal_rot, gain=1.0, max_turn=1.0):
+    """Task-space action entries (6) for this control step."""
+    pos, rot = robot.tcp_pose(physics, arm)
+    target_pos, target_rot = robot.task_space_target(arm)
+    if self._goal is None or np.linalg.norm(goal_pos - self._goal) > self._new_goal:
+      self._offset, self._rot_offset = np.zeros(3), np.zeros(3)
+    self._goal = np.array(goal_pos, dtype=float)
+    error = goal_pos - pos
+    rot_error = geometry.mat_to_axis_angle(goal_rot @ rot.T)
+    if np.linalg.norm(error) < self._near:   # gather the integral only close to the goal
+      self._offset = _clip_norm(self._offset + self._ki * error, self._max_offset)
+      self._rot_offset = _clip_norm(self._rot_offset + self._ki * rot_error, self._max_rot_offset)
+    move = gain * (goal_pos + self._offset - target_pos) / robot.max_translation
+    aim = geometry.axis_angle_to_mat(self._rot_offset) @ goal_rot
+    turn = gain * geometry.mat_to_axis_angle(aim @ target_rot.T) / robot.max_rotation
+    move /= max(1.0, np.abs(move).max())
+    turn *= max_turn / max(max_turn, np.abs(turn).max())
+    return np.concatenate([move, turn])
+
+
+def _clip_norm(vector, limit):
+  norm = np.linalg.norm(vector)
+  return vector if norm <= limit else vector * (limit / norm)
 
 
 def pose_error(robot, physics, arm, goal_pos, goal_rot):

@@ -293,7 +293,28 @@ class Manipulator(base.Robot):
     """Per arm, the MuJoCo body ids of its gripper's finger bodies (set after compile)."""
     return [ids.copy() for ids in self._finger_bodies]
 
+  def reach_check(self, physics, arm, goal_pos, goal_rot, iterations=40):
+    """How well `arm` can put its tool at a world pose: IK solved from the present joints,
+    the other arms holding their poses; nothing moves.
+
+    Returns:
+      (miss: position error in m plus 0.2 m per rad of orientation error, per-joint
+      margin to the joint limits in rad, joint travel in rad).
+    """
+    q = physics.data.qpos[self._ik_to_qpos].copy()
+    targets = list(self._ik.tcp_poses(q))
+    to_base = self._base_rot.T
+    targets[arm] = (to_base @ (goal_pos - self._base_pos), to_base @ goal_rot)
+    solution = self._ik.solve(q, targets, iterations=iterations)
+    arm_q = solution[self._ik.qpos_index[self._arm_ik[arm]]]
+    margin = np.minimum(arm_q - self._joint_low[arm], self._joint_high[arm] - arm_q)
+    pos, rot = self._ik.tcp_poses(solution)[arm]
+    miss = (np.linalg.norm(pos - targets[arm][0])
+            + 0.2 * np.linalg.norm(geometry.mat_to_axis_angle(rot @ targets[arm][1].T)))
+    return float(miss), margin, float(np.linalg.norm(solution - q))
+
   def task_space_target(self, arm=0):
+    """World position and rotation of the tool target the task-space modes track."""
     return self._targets.pos[arm].copy(), self._targets.rot[arm].copy()
 
   def gripper_opening(self, physics, arm=0):

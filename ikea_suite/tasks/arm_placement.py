@@ -57,7 +57,8 @@ class ReachableParts(composer.Initializer):
     OptionValueError: spread wider than the reach allows.
   """
 
-  def __init__(self, furniture, base_xy, base_rot, reach, inner=0.2, min_distance=0.55, gap=0.03,
+  def __init__(self, furniture, base_xy, base_rot, reach, inner=0.2, min_distance=0.55,
+               root_distance=0.45, gap=0.03,
                root_jitter=(0.03, np.radians(15)), sector=np.radians(110), max_attempts=200,
                spread=None, yaw_range=np.pi, preassembled=0):
     self._furniture = furniture
@@ -67,6 +68,9 @@ class ReachableParts(composer.Initializer):
     # to the base (an arm pointing down cannot reach right beside itself).
     self._reach, self._inner, self._gap = reach, inner, gap
     self._min_distance = min_distance
+    # The root's centre lies at least this far out: mating a held part onto a connector
+    # close to the base folds the elbow into the part (measured with the Sawyer at 0.4 m).
+    self._root_distance = root_distance
     self._root_jitter, self._sector, self._max_attempts = root_jitter, sector, max_attempts
     if spread is not None:
       room = reach - min_distance
@@ -113,7 +117,8 @@ class ReachableParts(composer.Initializer):
     yaw_rot = geometry.rot_z(self._heading + random_state.uniform(-yaw_jitter, yaw_jitter))
     _, _, radius = self._item_footprint(root_item, yaw_rot)
     forward = np.array([np.cos(self._heading), np.sin(self._heading)])
-    xy = self._base_xy + forward * (self._inner + radius) + random_state.uniform(-offset, offset, 2)
+    distance = max(self._inner + radius, self._root_distance)
+    xy = self._base_xy + forward * distance + random_state.uniform(-offset, offset, 2)
     self._place(physics, root_item, yaw_rot, xy)
     placed = [(xy, radius)]
     for item in items:
