@@ -2,9 +2,15 @@
 
 import numpy as np
 import pytest
+from dm_control import composer
 
 import ikea_suite
 from ikea_suite import geometry
+from ikea_suite.arenas import floor
+from ikea_suite.props import catalog
+from ikea_suite.props import furniture as furniture_lib
+from ikea_suite.robots import cursor
+from ikea_suite.tasks import assembly
 from tests import helpers
 
 TABLE = "table_four_leg_lack"
@@ -254,3 +260,13 @@ def test_reset_restores_the_episode_without_recompiling(env):
   assert env.physics is physics and env.physics.model.ptr is model_ptr   # same compiled model
   np.testing.assert_array_equal(physics.model.geom_contype, contype)
   assert not physics.data.eq_active.any() and env.task.state.num_groups == len(env.task.furniture.parts)
+
+
+def test_an_initializer_that_names_no_preassembled_pairs_is_refused():
+  class Plain(composer.Initializer):   # poses parts but says nothing of preassembled pairs
+    def __call__(self, physics, random_state):
+      pass
+  furniture = furniture_lib.Furniture(catalog.path_of(TABLE))
+  with pytest.raises(ikea_suite.IkeaSuiteError, match="PartInitializer"):
+    assembly.Assembly(arena=floor.FloorArena(), furniture=furniture, robot=cursor.Cursor(),
+                      initializer=Plain())
