@@ -1,7 +1,6 @@
 """ikea_suite.load: furniture x robot x options -> a composer environment."""
 
 import dataclasses
-import inspect
 
 from ikea_suite import environment
 from ikea_suite import errors
@@ -44,11 +43,6 @@ def default_time_limit(num_parts):
   return TIME_LIMIT_BASE + TIME_LIMIT_PER_PART * num_parts
 
 
-def _robot_options(factory):
-  params = inspect.signature(factory._build).parameters
-  return [p for p in params if p not in ("self", "name")]
-
-
 def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options):
   """Builds the assembly environment of `furniture` with `robot`.
 
@@ -69,7 +63,7 @@ def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options)
   """
   path = catalog.path_of(furniture)
   robot_entry = registry.get(robot)
-  robot_keys = _robot_options(robot_entry.factory)
+  robot_keys = list(robot_entry.factory.option_defaults())
   valid = (set(TASK_OPTIONS) | set(THRESHOLD_OPTIONS) | set(ENVIRONMENT_OPTIONS) | set(robot_keys)
            | set(SCENE_OPTIONS) | set(FURNITURE_OPTIONS))
   for key in options:

@@ -36,7 +36,7 @@ def test_finger_actuators_are_limited_to_the_published_grasp_force(robot, sheet)
   env = ikea_suite.load("table_four_leg_lack", robot)
   physics, arm_robot = env.physics, env.task.robot
   for arm in range(arm_robot.num_arms):
-    limits = physics.model.actuator_forcerange[arm_robot._finger_act[arm]]
+    limits = physics.model.actuator_forcerange[arm_robot.finger_actuator_ids[arm]]
     np.testing.assert_allclose(np.abs(limits), grippers.grip_facts(sheet).force)
 
 

@@ -81,7 +81,7 @@ def make_expert(env, require_supported: bool = False) -> Callable[[Any], Any]:
     supported_scale(name, env.task.furniture.name)
   if name == "cursor":
     return cursor_oracle.CursorOracle(env)
-  if getattr(robot, "control_mode", None) != control_modes.TASK_SPACE:
+  if robot.control_mode != control_modes.TASK_SPACE:
     raise errors.IkeaSuiteError(
         f"the {name} expert drives the arm in control_mode='task_space', "
         f"got control_mode={robot.control_mode!r}")

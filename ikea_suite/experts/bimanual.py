@@ -34,6 +34,11 @@ class TwoArmExpert:
     self.arms_used = set()
 
   @property
+  def active_arm(self) -> int:
+    """The arm (0 right, 1 left) fetching the current part; the other waits at home."""
+    return self._active
+
+  @property
   def phase(self):
     return self._arms[self._active].phase
 

@@ -39,7 +39,7 @@ class ArmAssemblyController:
   def __init__(self, env, arm=0, hover=0.12, lift=0.45, carry=0.5, approach=0.08, tolerance=0.9,
                close_steps=8, release_steps=6, stall_steps=150):
     robot = env.task.robot
-    if getattr(robot, "control_mode", None) != control_modes.TASK_SPACE:
+    if robot.control_mode != control_modes.TASK_SPACE:
       raise errors.IkeaSuiteError(
           "ArmAssemblyController drives an arm in control_mode='task_space'")
     self._env, self._robot, self._arm = env, robot, arm
@@ -185,10 +185,10 @@ class ArmAssemblyController:
     task, physics, robot = self._env.task, self._env.physics, self._robot
     table, state = task.furniture.connectors, task.state
     groups = state.group_labels()
-    ik = robot._ik
-    q = physics.data.qpos[robot._ik_to_qpos].copy()
-    arm_q = ik.qpos_index[robot._arm_ik[self._arm]]
-    low, high = robot._joint_low[self._arm], robot._joint_high[self._arm]
+    ik = robot.ik
+    q = robot.arm_qpos(physics)
+    arm_q = ik.qpos_index[robot.ik_joint_indices(self._arm)]
+    low, high = robot.joint_limits(self._arm)
     base_pos, base_rot = robot.base_pose
     current_poses = ik.tcp_poses(q)
     best = None

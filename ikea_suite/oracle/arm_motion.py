@@ -22,8 +22,8 @@ def pose_action(robot, physics, arm, goal_pos, goal_rot, gain=0.6, max_turn=1.0)
   its target) removes steady-state tracking offsets, e.g. from a held load.
   """
   pos, rot = robot.tcp_pose(physics, arm)
-  move = gain * (goal_pos - pos) / robot._targets._max_translation
-  turn = gain * geometry.mat_to_axis_angle(goal_rot @ rot.T) / robot._targets._max_rotation
+  move = gain * (goal_pos - pos) / robot.max_translation
+  turn = gain * geometry.mat_to_axis_angle(goal_rot @ rot.T) / robot.max_rotation
   move /= max(1.0, np.abs(move).max())
   turn *= max_turn / max(max_turn, np.abs(turn).max())
   return np.concatenate([move, turn])
