@@ -8,6 +8,7 @@ working goes back to its home pose, out of the other's way. Both act only
 through the action vector.
 """
 
+import dm_env
 import numpy as np
 
 from ikea_suite.oracle import arm_controller
@@ -39,11 +40,13 @@ class TwoArmExpert:
     return self._active
 
   @property
-  def phase(self):
+  def phase(self) -> arm_controller.Phase:
+    """The active arm's controller phase."""
     return self._arms[self._active].phase
 
   @property
-  def job(self):
+  def job(self) -> tuple[int, int] | None:
+    """The active arm's (connector pair, moving part), or None between parts."""
     return self._arms[self._active].job
 
   def _side(self, part):
@@ -53,7 +56,8 @@ class TwoArmExpert:
     local = base_rot.T @ (positions[part] - base_pos)
     return 0 if local[1] < 0 else 1
 
-  def __call__(self, timestep=None) -> np.ndarray:
+  def __call__(self, timestep: dm_env.TimeStep | None = None) -> np.ndarray:
+    """The action (both arms, then connect) from privileged state; `timestep` may be None."""
     controller = self._arms[self._active]
     action = controller(timestep)
     job = controller.job
