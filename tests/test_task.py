@@ -237,14 +237,16 @@ def test_next_pair_follows_the_buildable_sequence_in_any_order():
 
 
 def test_next_pair_adapts_when_parts_are_joined_out_of_order(env):
-  top, legs = top_and_legs(env)
+  top, _ = top_and_legs(env)
   task = env.task
-  first = task.suggested_parts()
-  helpers.place_assembled(env, [top, legs[3]])
+  order = task.assembly_order
+  last = order[-1]
+  assert task.suggested_parts()[0] == order[1] != last
+  helpers.place_assembled(env, [top, last])   # the order's last part joins first
   assert task.try_connect(env.physics)
   moving, target = task.suggested_parts()
-  assert target in (top, legs[3]) and moving not in (top, legs[3])
-  assert first[0] != legs[3] or moving != legs[3]
+  assert target in (top, last)
+  assert moving == order[1]   # still the first part of the order not yet joined
 
 
 def test_reset_restores_the_episode_without_recompiling(env):
