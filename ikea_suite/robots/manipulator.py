@@ -180,6 +180,11 @@ class Manipulator(base.Robot):
     return {f"{arm.prefix}wrist": arm.camera for arm in self._arms}
 
   @property
+  def wrist_camera_size(self):
+    """(height, width) in pixels of the wrist camera observables, or None when they are off."""
+    return self._camera_size if self._wrist_camera else None
+
+  @property
   def base_pose(self):
     """World position and rotation of the robot base."""
     return self._base_pos.copy(), self._base_rot.copy()
@@ -360,8 +365,8 @@ class ManipulatorObservables(composer.Observables):
 
   def __init__(self, entity):
     super().__init__(entity)
-    if entity._wrist_camera:
-      height, width = entity._camera_size
+    if entity.wrist_camera_size is not None:
+      height, width = entity.wrist_camera_size
       for arm in entity.arms:
         self.add_observable(f"{arm.prefix}wrist_camera",
                             observable.MJCFCamera(arm.camera, height=height, width=width))
