@@ -25,6 +25,7 @@ def run_episode(job):
   robot, furniture, scale, seed, time_limit = job
   import ikea_suite
   from ikea_suite import experts
+  from ikea_suite.experts import bimanual
   start = time.perf_counter()
   options = {} if time_limit is None else {"time_limit": time_limit}
   env = ikea_suite.load(furniture, robot, seed=seed, scale=scale, **options)
@@ -40,7 +41,8 @@ def run_episode(job):
           "parts": len(env.task.furniture.parts), "connections": len(state.connections),
           "complete": bool(state.complete), "steps": steps,
           "seconds": time.perf_counter() - start,
-          "arms_used": sorted(getattr(expert, "arms_used", {0}))}
+          "arms_used": sorted(expert.arms_used if isinstance(expert, bimanual.TwoArmExpert)
+                              else {0})}
 
 
 def default_models(count):
@@ -88,7 +90,7 @@ def main(argv=None):
   models = args.models or default_models(args.num_models)
   jobs = []
   for robot in args.robots:
-    scale = args.scale or getattr(registry.get(robot).factory, "WORK_SCALE", 1.0)
+    scale = args.scale or registry.get(robot).factory.WORK_SCALE
     jobs += [(robot, m, scale, s, args.time_limit) for m in models
              for s in range(args.seed_start, args.seed_start + args.seeds)]
   start = time.perf_counter()

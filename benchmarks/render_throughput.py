@@ -37,7 +37,7 @@ def env_steps_per_second(env, steps, rng):
 def render_frames_per_second(env, camera, kinds, frames):
   """The renderer alone: the same scene drawn `frames` times."""
   rig = next(e for e in env.task.arena.iter_entities() if e.mjcf_model.model == "cameras")
-  renderer = rig._renderer(env.physics, camera)   # pylint: disable=protected-access
+  renderer = rig.renderer(env.physics, camera)
   renderer.render_kinds(kinds)   # warm up: GL context and texture upload
   start = time.perf_counter()
   for _ in range(frames):

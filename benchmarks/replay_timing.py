@@ -22,7 +22,7 @@ def time_env_and_raw(env, actions):
   states, eq_data, env_seconds = [], [], 0.0
   for action in actions:
     # Fetched every step: composer may recompile the physics on reset.
-    model, data = env.physics.model._model, env.physics.data._data
+    model, data = env.physics.model.ptr, env.physics.data.ptr
     state = np.empty(mujoco.mj_stateSize(model, spec))
     mujoco.mj_getState(model, data, state, spec)
     states.append(state)
@@ -32,7 +32,7 @@ def time_env_and_raw(env, actions):
     env_seconds += time.perf_counter() - start
     if last:
       env.reset()
-  model = env.physics.model._model
+  model = env.physics.model.ptr
   substeps = int(round(env.control_timestep() / model.opt.timestep))
   raw_data = mujoco.MjData(model)
   raw_seconds = 0.0

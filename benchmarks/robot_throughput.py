@@ -22,6 +22,7 @@ import replay_timing  # benchmarks/replay_timing.py, beside this script
 
 import ikea_suite
 from ikea_suite.robots import control_modes
+from ikea_suite.robots import manipulator
 
 
 class _Timer:
@@ -54,7 +55,7 @@ def time_robot(env, steps, rng):
   robot = env.task.robot
   control = _Timer(robot.apply_action)
   robot.apply_action = control   # instance attribute shadows the method
-  ik = getattr(robot, "_ik", None)
+  ik = robot.ik if isinstance(robot, manipulator.Manipulator) else None   # the Cursor has none
   solve = None
   if ik is not None:
     solve = _Timer(ik.step)

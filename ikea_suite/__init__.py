@@ -27,6 +27,11 @@ from ikea_suite.suite import furniture_names  # noqa: E402
 from ikea_suite.suite import load  # noqa: E402
 from ikea_suite.suite import robot_names  # noqa: E402
 
+__all__ = [   # the public API; ALL and EXPERT_SUPPORTED are computed on first use (below)
+    "ActionError", "IkeaSuiteError", "ModelFormatError", "OptionValueError", "UnknownNameError",
+    "invalid_models", "register_models", "unregister_models", "DEFAULT_FURNITURE",
+    "DEFAULT_ROBOT", "all_environments", "furniture_names", "load", "robot_names"]
+
 
 def __getattr__(name):
   # ALL reads the model directory, so it is computed on first use, not at import.

@@ -1,7 +1,8 @@
 """ikea_suite.load: furniture x robot x options -> a composer environment."""
 
 import dataclasses
-import inspect
+import os
+from typing import Any
 
 from ikea_suite import environment
 from ikea_suite import errors
@@ -44,12 +45,8 @@ def default_time_limit(num_parts):
   return TIME_LIMIT_BASE + TIME_LIMIT_PER_PART * num_parts
 
 
-def _robot_options(factory):
-  params = inspect.signature(factory._build).parameters
-  return [p for p in params if p not in ("self", "name")]
-
-
-def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options):
+def load(furniture: str | os.PathLike = DEFAULT_FURNITURE, robot: str = DEFAULT_ROBOT,
+         seed: int | None = None, **options: Any) -> environment.Environment:
   """Builds the assembly environment of `furniture` with `robot`.
 
   `furniture` is a catalog name (see furniture_names() and register_models()) or
@@ -66,10 +63,22 @@ def load(furniture=DEFAULT_FURNITURE, robot=DEFAULT_ROBOT, seed=None, **options)
   Scene: scene (preset name), spread, preassembled, yaw_range, randomize;
   images: cameras, camera_outputs, image_size, goal_image (README: "Observations, scenes and domain randomization").
   Unknown names raise UnknownNameError listing the valid ones.
+
+  Args:
+    furniture: catalog name or model file path.
+    robot: robot name (robot_names()).
+    seed: seed of the environment's random state; None draws a fresh one.
+    **options: the options above.
+  Returns:
+    The composer environment (dm_env API); `env.task` is the tasks.assembly.Assembly.
+  Raises:
+    UnknownNameError: an unknown furniture, robot or option name.
+    OptionValueError: an option value out of range or of the wrong kind.
+    ModelFormatError: a model file that breaks the format.
   """
   path = catalog.path_of(furniture)
   robot_entry = registry.get(robot)
-  robot_keys = _robot_options(robot_entry.factory)
+  robot_keys = list(robot_entry.factory.option_defaults())
   valid = (set(TASK_OPTIONS) | set(THRESHOLD_OPTIONS) | set(ENVIRONMENT_OPTIONS) | set(robot_keys)
            | set(SCENE_OPTIONS) | set(FURNITURE_OPTIONS))
   for key in options:
@@ -126,14 +135,36 @@ def _check_options(options):
         f"control_timestep ({control!r}) must be a whole multiple of physics_timestep ({physics!r})")
 
 
-def furniture_names(tag=None, min_parts=None, max_parts=None):
+def furniture_names(tag: str | None = None, min_parts: int | None = None,
+                    max_parts: int | None = None) -> list[str]:
+  """Names of the catalog's furniture (bundled and register_models()), sorted.
+
+  Args:
+    tag: keep only models with this tag: a category ("table"), a family, "parts_N" or
+      "concave"; None keeps all.
+    min_parts, max_parts: inclusive bounds on the part count; None for no bound.
+  Returns:
+    Furniture names accepted by load().
+  """
   return catalog.names(tag=tag, min_parts=min_parts, max_parts=max_parts)
 
 
-def robot_names(tag=None):
+def robot_names(tag: str | None = None) -> list[str]:
+  """Names of the registered robots, sorted.
+
+  Args:
+    tag: keep only robots with this tag ("arm", "single_arm", "bimanual", "floating",
+      "paper"); None keeps all.
+  Returns:
+    Robot names accepted by load().
+  """
   return registry.names(tag=tag)
 
 
-def all_environments():
-  """Every registered (furniture, robot) pair."""
+def all_environments() -> list[tuple[str, str]]:
+  """Every registered (furniture, robot) pair.
+
+  Returns:
+    (furniture name, robot name) pairs, furniture-major.
+  """
   return [(f, r) for f in furniture_names() for r in robot_names()]

@@ -22,6 +22,22 @@ def place_assembled(env, parts, offset=LIFT, extra_rot=None, extra_pos=None):
   physics.forward()
 
 
+def assembled_shape_error(env):
+  """Largest distance (m) between the parts' centres and the design's, in the root part's frame.
+
+  Parts are matched to the nearest design centre both ways, so interchangeable
+  parts (legs in each other's corners) count as in place.
+  """
+  task = env.task
+  root, spec = task.root_part, task.furniture.spec
+  pos, rot = task.furniture.part_poses(env.physics)
+  got = (pos - pos[root]) @ rot[root]
+  design = np.array([p.pos for p in spec.parts])
+  want = (design - design[root]) @ spec.parts[root].rot
+  gaps = np.linalg.norm(got[:, None] - want[None], axis=2)
+  return max(gaps.min(axis=0).max(), gaps.min(axis=1).max())
+
+
 def part_index(env, name):
   return env.task.furniture.spec.part_index(name)
 

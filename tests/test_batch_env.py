@@ -51,8 +51,9 @@ def test_same_seed_same_batch(env):
 def test_time_limit_and_rewards_follow_load(env):
   cpu = ikea_suite.load(FURNITURE, "cursor", seed=0)
   assert env.settings.max_steps == int(round(cpu.time_limit / cpu.control_timestep()))
-  assert env.settings.substeps == 25
-  assert (env.settings.connection_reward, env.settings.completion_bonus) == (1.0, 10.0)
+  assert env.settings.substeps == round(cpu.control_timestep() / cpu.physics.timestep())
+  assert (env.settings.connection_reward, env.settings.completion_bonus) == (
+      cpu.task.connection_reward, cpu.task.completion_bonus)
   assert env.action_names == list(cpu.action_spec().name.split("\t"))
 
 

@@ -5,7 +5,9 @@ import pytest
 
 import ikea_suite
 from ikea_suite.oracle import cursor_oracle
+from ikea_suite.oracle import targets
 from ikea_suite.tasks import rewards
+from tests import helpers
 
 
 def oracle_episode(furniture, seed=0):
@@ -47,10 +49,14 @@ def test_dense_return_rises_at_every_oracle_stage(table_episode):
 
 def test_dense_never_pays_more_for_a_connection_than_sparse(table_episode):
   env, _, _, connection_steps = table_episode
-  assert len(connection_steps) == len(env.task.furniture.parts) - 1
+  needed = len(env.task.furniture.parts) - 1
+  assert len(connection_steps) == needed
+  # The stage terms earn at most weights.total of a connection; connecting pays the rest.
+  least = (1.0 - rewards.StageWeights().total) / needed
   for reward, complete in connection_steps:
     sparse = 1.0 + (10.0 if complete else 0.0)   # connection_reward, completion_bonus defaults
-    assert 0.0 < reward <= sparse
+    bonus = 1.0 if complete else 0.0             # dense pays min(bonus, connection_reward)
+    assert least + bonus - 1e-9 <= reward <= sparse
 
 
 def test_complete_episode_returns_about_two_for_any_furniture(table_episode):
@@ -63,14 +69,44 @@ def test_complete_episode_returns_about_two_for_any_furniture(table_episode):
     assert 1.8 < total <= 2.0 + 1e-9
 
 
-def test_stage_terms_are_named_and_bounded():
-  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=0, reward="dense")
+def test_stage_terms_of_a_held_and_lifted_part_match_their_definitions():
+  env = ikea_suite.load("table_four_leg_lack", "cursor", seed=0, reward="dense")
   env.reset()
-  terms = env.task.dense_reward.pair_terms(env.physics)
+  task, physics, robot = env.task, env.physics, env.task.robot
+  dense = task.dense_reward
+  leg, top = helpers.part_index(env, "leg0"), task.root_part
+  body = task.furniture.body_ids[leg]
+  start_z = physics.data.xipos[body][2]
+  terms = dense.pair_terms(physics)
   assert set(terms) == {"reach", "grasp", "lift", "distance", "angle"}
-  for values in terms.values():
-    assert len(values) and np.all((values >= 0) & (values <= 1))
-  assert not terms["grasp"].any()   # the gripper starts empty
+  assert not terms["grasp"].any() and not terms["lift"].any()   # nothing held yet
+  # Cursor 0 selects leg0 at its grasp point, then raises it 5 cm (two steps at full speed).
+  robot.set_cursor_pose(physics, 0, targets.grasp_point(physics, task.furniture, leg), np.eye(3))
+  action = helpers.idle_action(env)
+  action[6] = 1.0    # cursor0_select
+  returns = 0.0
+  for move_z in (0.0, 1.0, 1.0, 0.0, 0.0, 0.0):
+    action[2] = move_z
+    returns += env.step(action).reward
+  assert robot.held_parts[0] == leg
+  assert returns > 0   # holding and lifting the next part raised the potential
+  terms = dense.pair_terms(physics)
+  held = terms["grasp"] == 1.0   # the rows whose moving part is leg0
+  assert held.any() and not held.all()
+  rise = physics.data.xipos[body][2] - start_z
+  assert 0.03 < rise < 0.07
+  np.testing.assert_allclose(terms["reach"][held], 1.0)
+  np.testing.assert_allclose(terms["lift"][held], rise / rewards.LIFT_HEIGHT, rtol=1e-9)
+  # Distance terms of leg0's open pairs with the top, from the task's own alignment scores.
+  table, scores = task.furniture.connectors, task.alignment(physics)
+  a, b = table.part[table.pair_a], table.part[table.pair_b]
+  mine = ((a == leg) & (b == top)) | ((a == top) & (b == leg))
+  np.testing.assert_allclose(np.sort(terms["distance"][held]),
+                             np.sort(np.exp(-scores.distance[mine] / rewards.DISTANCE_SCALE)))
+  others = ~held   # parts not held earn reach only
+  assert np.all(terms["reach"][others] < 1.0)
+  for name in ("lift", "distance", "angle"):
+    assert not terms[name][others].any()
   env.close()
 
 
@@ -79,7 +115,6 @@ def test_sparse_is_default_and_unknown_reward_is_rejected():
   assert env.task.dense_reward is None
   with pytest.raises(ikea_suite.UnknownNameError, match="dense"):
     ikea_suite.load("table_four_leg_lack", "cursor", reward="shaped")
-  assert rewards.StageWeights().total < 1.0
 
 
 def test_arm_grasp_is_detected_and_return_rises_from_grasp_to_connection():

@@ -60,7 +60,7 @@ def test_baxter_expert_gives_each_part_to_the_arm_on_its_side(seed):
   base_pos, base_rot = env.task.robot.base_pose
   right_of_torso = (base_rot.T @ (positions[part] - base_pos))[1] < 0
   assert expert.arms_used == {0 if right_of_torso else 1}
-  assert expert._active == (0 if right_of_torso else 1)
+  assert expert.active_arm == (0 if right_of_torso else 1)
 
 
 def test_sawyer_expert_connects_legs_of_the_half_size_lack_table():

@@ -36,7 +36,7 @@ def test_finger_actuators_are_limited_to_the_published_grasp_force(robot, sheet)
   env = ikea_suite.load("table_four_leg_lack", robot)
   physics, arm_robot = env.physics, env.task.robot
   for arm in range(arm_robot.num_arms):
-    limits = physics.model.actuator_forcerange[arm_robot._finger_act[arm]]
+    limits = physics.model.actuator_forcerange[arm_robot.finger_actuator_ids[arm]]
     np.testing.assert_allclose(np.abs(limits), grippers.grip_facts(sheet).force)
 
 
@@ -98,7 +98,7 @@ def _hold_test(robot_name, furniture_name, part_name, standing):
   controller = arm_controller.ArmAssemblyController(env)
   _, home_rot = robot.tcp_pose(physics)
   candidates = [arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing,
-                                             controller._closing_local())
+                                             controller.closing_local())
                 for closing in (np.array([0.0, 1.0, 0.0]), np.array([0.0, -1.0, 0.0]))]
   tool_rot = min(candidates, key=lambda r: np.linalg.norm(geometry.mat_to_axis_angle(r @ home_rot.T)))
   grasp = np.array([*part_pos[:2], part_pos[2] + height / 2 - min(0.03, height / 2)])

@@ -91,7 +91,8 @@ def test_quirks_are_repaired_and_reported(tmp_path):
   assert "dropped dead weld between 'leg0' and 'leg1'" in notes
   assert "site 'leg-shelf,conn_site9' on part 'leg3' has no partner" in notes
   assert result.num_parts == 5 and len(result.pairs) == 4
-  assert model_format.load_spec(str(result.path))   # a valid model in our format
+  spec = model_format.load_spec(str(result.path))   # a valid model in our format
+  assert len(spec.parts) == 5 and len(spec.assembled_connector_pairs()) == 4
 
 
 def test_a_disconnected_graph_is_rejected_naming_the_parts_and_the_site(tmp_path):

@@ -9,13 +9,13 @@ import ikea_suite
 from ikea_suite import cli
 from ikea_suite.oracle import cursor_oracle
 from ikea_suite.props import catalog
+from tests import helpers
 
 
 @pytest.mark.parametrize("name", catalog.representatives())
 def test_oracle_assembles_a_model_of_each_category(name):
   env = ikea_suite.load(name, "cursor", seed=1)
-  steps = cli.run_episode(env, cursor_oracle.CursorOracle(env))["steps"]
+  cli.run_episode(env, cursor_oracle.CursorOracle(env))
   state = env.task.state
   assert state.complete, f"{len(state.connections)} of {len(env.task.furniture.parts) - 1} connections"
-  assert len(state.connections) == len(env.task.furniture.parts) - 1
-  assert steps < round(env.time_limit / env.control_timestep())
+  assert helpers.assembled_shape_error(env) < 2e-3   # the design's shape, not just one group

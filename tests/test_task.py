@@ -2,9 +2,15 @@
 
 import numpy as np
 import pytest
+from dm_control import composer
 
 import ikea_suite
 from ikea_suite import geometry
+from ikea_suite.arenas import floor
+from ikea_suite.props import catalog
+from ikea_suite.props import furniture as furniture_lib
+from ikea_suite.robots import cursor
+from ikea_suite.tasks import assembly
 from tests import helpers
 
 TABLE = "table_four_leg_lack"
@@ -231,14 +237,16 @@ def test_next_pair_follows_the_buildable_sequence_in_any_order():
 
 
 def test_next_pair_adapts_when_parts_are_joined_out_of_order(env):
-  top, legs = top_and_legs(env)
+  top, _ = top_and_legs(env)
   task = env.task
-  first = task.suggested_parts()
-  helpers.place_assembled(env, [top, legs[3]])
+  order = task.assembly_order
+  last = order[-1]
+  assert task.suggested_parts()[0] == order[1] != last
+  helpers.place_assembled(env, [top, last])   # the order's last part joins first
   assert task.try_connect(env.physics)
   moving, target = task.suggested_parts()
-  assert target in (top, legs[3]) and moving not in (top, legs[3])
-  assert first[0] != legs[3] or moving != legs[3]
+  assert target in (top, last)
+  assert moving == order[1]   # still the first part of the order not yet joined
 
 
 def test_reset_restores_the_episode_without_recompiling(env):
@@ -254,3 +262,13 @@ def test_reset_restores_the_episode_without_recompiling(env):
   assert env.physics is physics and env.physics.model.ptr is model_ptr   # same compiled model
   np.testing.assert_array_equal(physics.model.geom_contype, contype)
   assert not physics.data.eq_active.any() and env.task.state.num_groups == len(env.task.furniture.parts)
+
+
+def test_an_initializer_that_names_no_preassembled_pairs_is_refused():
+  class Plain(composer.Initializer):   # poses parts but says nothing of preassembled pairs
+    def __call__(self, physics, random_state):
+      pass
+  furniture = furniture_lib.Furniture(catalog.path_of(TABLE))
+  with pytest.raises(ikea_suite.IkeaSuiteError, match="PartInitializer"):
+    assembly.Assembly(arena=floor.FloorArena(), furniture=furniture, robot=cursor.Cursor(),
+                      initializer=Plain())

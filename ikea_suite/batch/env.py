@@ -87,7 +87,7 @@ class BatchAssembly:
                                       yaw_range=self._settings.yaw_range)
     self._mx, self._data0 = backend.put(bm.model, self._impl, bm.num_parts, bm.welds.num_welds,
                                         num_worlds=num_worlds)
-    self._home = rigid.real(cpu_cursor._HOME)
+    self._home = rigid.real(cpu_cursor.HOME_POSITIONS)
     self._reset_batch = jax.jit(jax.vmap(self.reset))
     self._step_batch = jax.jit(jax.vmap(self.step))
 
@@ -133,7 +133,7 @@ class BatchAssembly:
   def action_names(self):
     """The 15 action entries, named as the CPU environment's action spec."""
     return [f"cursor{i}_{a}" for i in range(cpu_cursor.NUM_CURSORS)
-            for a in cpu_cursor._PER_CURSOR] + [CONNECT_ACTION]
+            for a in cpu_cursor.PER_CURSOR_ACTIONS] + [CONNECT_ACTION]
 
   @property
   def action_size(self):

@@ -116,7 +116,8 @@ def build(furniture):
   _strip_visuals(mj_spec, set(part_names))
   _set_collision_bits(mj_spec, set(part_names))
   for i in range(NUM_CURSORS):
-    mj_spec.worldbody.add_body(name=f"grip_target{i}", mocap=True, pos=cursor_lib._HOME[i])
+    mj_spec.worldbody.add_body(name=f"grip_target{i}", mocap=True,
+                               pos=cursor_lib.HOME_POSITIONS[i])
   for i in range(NUM_CURSORS):
     for name in part_names:
       mj_spec.add_equality(type=mujoco.mjtEq.mjEQ_WELD, objtype=mujoco.mjtObj.mjOBJ_BODY,
@@ -151,7 +152,7 @@ def build(furniture):
   part_of_body = {int(b): i for i, b in enumerate(bodies)}
   geoms = [g for g in range(model.ngeom) if model.geom_bodyid[g] in part_of_body
            and (model.geom_contype[g] or model.geom_conaffinity[g])]
-  margin = _cursor_default("grasp_margin")
+  margin = cursor_lib.Cursor.option_defaults()["grasp_margin"]
   rot = np.array([_quat_mat(model.geom_quat[g]) for g in geoms])
   return BatchModel(
       model=model, spec=spec, table=table, welds=welds,
@@ -167,8 +168,3 @@ def _quat_mat(quat):
   out = np.empty(9)
   mujoco.mju_quat2Mat(out, np.asarray(quat, dtype=float))
   return out.reshape(3, 3)
-
-
-def _cursor_default(name):
-  import inspect
-  return inspect.signature(cursor_lib.Cursor._build).parameters[name].default

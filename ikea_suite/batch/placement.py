@@ -16,6 +16,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ikea_suite import geometry
 from ikea_suite.batch import rigid
 from ikea_suite.tasks import placement as cpu_placement
 
@@ -34,16 +35,10 @@ class Scatter(typing.NamedTuple):
   yaw_range: float
 
 
-def _corners(bounds):
-  lo, hi = bounds
-  return np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
-                   for z in (lo[2], hi[2])])
-
-
 def scatter(spec, spread=0.9, clearance=0.15, gap=0.03, yaw_range=np.pi):
   """Scatter constants for a FurnitureSpec, with ScatteredParts' defaults."""
   rest = [cpu_placement.resting_rotation(p.bounds) for p in spec.parts]
-  corners = [_corners(p.bounds) for p in spec.parts]
+  corners = [geometry.box_corners(*p.bounds) for p in spec.parts]
   extent = [np.ptp(c @ r.T, axis=0).max() for c, r in zip(corners, rest)]
   order = tuple(int(i) for i in np.argsort(-np.array(extent), kind="stable"))
   return Scatter(order, np.array([rest[i] for i in order]), np.array([corners[i] for i in order]),

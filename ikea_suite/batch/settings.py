@@ -1,7 +1,6 @@
 """Options of the batched task: the same names, defaults and range checks as ikea_suite.load."""
 
 import dataclasses
-import inspect
 
 import numpy as np
 
@@ -14,8 +13,7 @@ from ikea_suite.robots import cursor as cpu_cursor
 from ikea_suite.tasks import alignment
 from ikea_suite.tasks import assembly
 
-_CURSOR_DEFAULTS = {name: p.default for name, p in
-                    inspect.signature(cpu_cursor.Cursor._build).parameters.items()
+_CURSOR_DEFAULTS = {name: default for name, default in cpu_cursor.Cursor.option_defaults().items()
                     if name in ("move_speed", "rotate_speed", "grasp_margin", "workspace")}
 OPTIONS = ("time_limit", "control_timestep", "distance_threshold", "up_threshold",
            "forward_threshold", "connection_reward", "completion_bonus", "spread", "yaw_range"

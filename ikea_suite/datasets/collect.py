@@ -19,6 +19,7 @@ from typing import Any
 import tqdm
 
 import ikea_suite
+from ikea_suite import environment
 from ikea_suite import errors
 from ikea_suite.datasets import experts
 from ikea_suite.datasets import hdf5
@@ -32,8 +33,17 @@ def _build(args: dict[str, Any]):
   return env, experts.make(env)
 
 
-def run_episode(env, expert, seed: int) -> recorder.Episode:
-  """One expert episode of `env` from random state `seed`."""
+def run_episode(env: environment.Environment, expert: experts.Expert,
+                seed: int) -> recorder.Episode:
+  """One expert episode of `env` from random state `seed`.
+
+  Args:
+    env: the environment.
+    expert: its robot's expert (experts.make(env)).
+    seed: the environment's random state is seeded with it before reset.
+  Returns:
+    The recorded episode, with the expert's subtask labels.
+  """
   return recorder.record_episode(env, expert, seed, subtask=expert.subtask)
 
 
@@ -48,7 +58,15 @@ def _worker_episode(seed: int) -> recorder.Episode:
 
 def episodes_in_processes(args: dict[str, Any], seeds: list[int], workers: int
                           ) -> Iterator[recorder.Episode]:
-  """Yields episodes as they finish, from `workers` processes (in this one if workers == 1)."""
+  """Yields episodes as they finish, from `workers` processes (in this one if workers == 1).
+
+  Args:
+    args: `hdf5.env_args(...)` of the environment each process builds once.
+    seeds: one episode per seed.
+    workers: processes; 1 runs the episodes in this process.
+  Yields:
+    Episodes in the order they finish.
+  """
   if workers == 1:
     env, expert = _build(args)
     for seed in seeds:
@@ -61,7 +79,18 @@ def episodes_in_processes(args: dict[str, Any], seeds: list[int], workers: int
 
 def episodes_on_ray(args: dict[str, Any], seeds: list[int], address: str, workers: int
                     ) -> Iterator[recorder.Episode]:
-  """Yields episodes as they finish from `workers` Ray actors on the cluster at `address`."""
+  """Yields episodes as they finish from `workers` Ray actors on the cluster at `address`.
+
+  Args:
+    args: `hdf5.env_args(...)` of the environment each actor builds once.
+    seeds: one episode per seed.
+    address: the Ray cluster address ("auto", "ray://host:10001", "local").
+    workers: actors (at most one per seed).
+  Yields:
+    Episodes in the order they finish.
+  Raises:
+    IkeaSuiteError: ray is not installed.
+  """
   try:
     import ray
   except ImportError:
@@ -101,6 +130,10 @@ def collect(args: dict[str, Any], episodes: int, seed: int = 0, workers: int = 1
     workers: processes (or Ray actors) running episodes at once.
     ray_address: a Ray cluster address ("auto", "ray://host:10001", "local"); None for processes.
     progress: show a progress bar on stderr.
+  Returns:
+    The episodes, sorted by seed.
+  Raises:
+    IkeaSuiteError: ray_address given without the ray extra installed.
   """
   seeds = list(range(seed, seed + episodes))
   source = (episodes_on_ray(args, seeds, ray_address, workers) if ray_address
@@ -110,7 +143,8 @@ def collect(args: dict[str, Any], episodes: int, seed: int = 0, workers: int = 1
   return sorted(done, key=lambda e: e.seed)
 
 
-def parse_args(argv=None):
+def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
+  """The command line of ikea-suite-collect (sys.argv[1:] when `argv` is None)."""
   parser = argparse.ArgumentParser(description="Record expert demonstrations to HDF5.")
   parser.add_argument("--furniture", default=ikea_suite.DEFAULT_FURNITURE)
   parser.add_argument("--robot", default=ikea_suite.DEFAULT_ROBOT)
@@ -130,7 +164,8 @@ def parse_args(argv=None):
   return parser.parse_args(argv)
 
 
-def main(argv=None) -> int:
+def main(argv: list[str] | None = None) -> int:
+  """ikea-suite-collect: records the episodes and writes the file; returns the exit status."""
   a = parse_args(argv)
   options = {"reward": a.reward}
   if a.cameras:

@@ -1,7 +1,9 @@
 """Which scripted expert drives which robot, and the subtask it is working on."""
 
-from typing import Any
+import dm_env
+import numpy as np
 
+from ikea_suite import environment
 from ikea_suite import errors
 from ikea_suite import experts as experts_lib
 
@@ -21,7 +23,7 @@ class Expert:
     UnknownNameError: the robot has no expert yet.
   """
 
-  def __init__(self, env):
+  def __init__(self, env: environment.Environment):
     robot = env.task.robot.mjcf_model.model
     if robot not in EXPERTS:
       raise errors.UnknownNameError("robot with an expert", robot, EXPERTS)
@@ -29,9 +31,11 @@ class Expert:
     self._policy = experts_lib.make_expert(env)
 
   def reset(self) -> None:
+    """Resets the policy for a new episode (call after env.reset())."""
     self._policy.reset()
 
-  def __call__(self, timestep: Any):
+  def __call__(self, timestep: dm_env.TimeStep) -> np.ndarray:
+    """The policy's action for `timestep`."""
     return self._policy(timestep)
 
   def subtask(self) -> tuple[str, int]:
@@ -45,6 +49,15 @@ class Expert:
     return phase, -1 if part is None else int(part)
 
 
-def make(env) -> Expert:
-  """The expert for `env`'s robot."""
+def make(env: environment.Environment) -> Expert:
+  """The expert for `env`'s robot.
+
+  Args:
+    env: an ikea_suite environment (arms in control_mode="task_space").
+  Returns:
+    An Expert wrapping ikea_suite.experts.make_expert(env).
+  Raises:
+    UnknownNameError: the robot has no expert.
+    IkeaSuiteError: an arm not in task_space mode.
+  """
   return Expert(env)

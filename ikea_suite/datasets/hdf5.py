@@ -30,6 +30,7 @@ import h5py
 import numpy as np
 
 import ikea_suite
+from ikea_suite import environment
 from ikea_suite.datasets import mj_state
 from ikea_suite.datasets import recorder
 from ikea_suite.props import catalog
@@ -48,7 +49,15 @@ def env_name(key: str) -> str:
 
 
 def model_version(furniture: str) -> str:
-  """First 12 hex digits of the SHA-256 of the furniture's MJCF file."""
+  """First 12 hex digits of the SHA-256 of the furniture's MJCF file.
+
+  Args:
+    furniture: a catalog name or model file path.
+  Returns:
+    12 lowercase hex digits.
+  Raises:
+    UnknownNameError, ModelFormatError: as catalog.path_of.
+  """
   with open(catalog.path_of(furniture), "rb") as f:
     return hashlib.sha256(f.read()).hexdigest()[:12]
 
@@ -61,21 +70,46 @@ def env_args(furniture: str, robot: str, options: dict[str, Any]) -> dict[str, A
 
   `env_kwargs` are the keyword arguments of `ikea_suite.load` (furniture,
   robot and options) and equally of `gymnasium.make(env_name, **env_kwargs)`.
+
+  Args:
+    furniture: furniture name.
+    robot: robot name.
+    options: further load() options (tuples are stored as JSON lists).
+  Returns:
+    {"env_name": GYM_ID, "type": "ikea_suite", "env_kwargs": {...}}.
   """
   kwargs = {"furniture": furniture, "robot": robot}
   kwargs.update({k: list(v) if isinstance(v, tuple) else v for k, v in options.items()})
   return {"env_name": GYM_ID, "type": "ikea_suite", "env_kwargs": kwargs}
 
 
-def load_env(args: dict[str, Any], **overrides: Any):
-  """Builds the environment described by `env_args` (options may be overridden)."""
+def load_env(args: dict[str, Any], **overrides: Any) -> environment.Environment:
+  """Builds the environment described by `env_args` (options may be overridden).
+
+  Args:
+    args: env_args as written by env_args() or read by read_env_args().
+    **overrides: load() options that replace the stored ones.
+  Returns:
+    The environment from ikea_suite.load.
+  Raises:
+    UnknownNameError, OptionValueError: as ikea_suite.load.
+  """
   kwargs = {k: tuple(v) if isinstance(v, list) else v for k, v in args["env_kwargs"].items()}
   kwargs.update(overrides)
   return ikea_suite.load(**kwargs)
 
 
-def train_valid_split(names: list[str], valid_fraction: float, seed: int = 0):
-  """(train, valid) demo names; valid gets round(fraction x demos), at least 1 of 2+ demos."""
+def train_valid_split(names: list[str], valid_fraction: float, seed: int = 0
+                      ) -> tuple[list[str], list[str]]:
+  """(train, valid) demo names; valid gets round(fraction x demos), at least 1 of 2+ demos.
+
+  Args:
+    names: demo names ("demo_<i>").
+    valid_fraction: share of demos for validation, in [0, 1].
+    seed: seed of the shuffle.
+  Returns:
+    (train names in the given order, valid names in index order).
+  """
   order = np.random.default_rng(seed).permutation(len(names))
   count = int(round(valid_fraction * len(names)))
   if valid_fraction > 0 and len(names) > 1:
@@ -86,7 +120,15 @@ def train_valid_split(names: list[str], valid_fraction: float, seed: int = 0):
 
 def write_demo(group: h5py.Group, episode: recorder.Episode, args: dict[str, Any],
                action_names: list[str] | None = None, compression: str | None = "gzip") -> None:
-  """Writes one `Episode` into an (empty) demo group; actions get a `names` attribute."""
+  """Writes one `Episode` into an (empty) demo group; actions get a `names` attribute.
+
+  Args:
+    group: the empty data/demo_<i> group.
+    episode: the recorded episode.
+    args: env_args of its environment (furniture and robot are stored as attributes).
+    action_names: names of the action entries, or None.
+    compression: h5py compression of states and observations, or None.
+  """
   kwargs = args["env_kwargs"]
   group.attrs.update({"seed": episode.seed, "model_name": kwargs["furniture"],
                       "model_version": model_version(kwargs["furniture"]),
@@ -117,6 +159,8 @@ def write(path: str, episodes: Iterable[recorder.Episode], args: dict[str, Any],
     args: `env_args(...)` of the environment they come from.
     valid_fraction: share of demos listed in mask/valid (the rest in mask/train).
     action_names: names of the action entries (`env.task.action_names`).
+  Returns:
+    The number of demos written.
   """
   total, names = 0, []
   with h5py.File(path, "w") as f:
@@ -136,12 +180,24 @@ def write(path: str, episodes: Iterable[recorder.Episode], args: dict[str, Any],
 
 
 def read_env_args(f: h5py.File) -> dict[str, Any]:
-  """The `env_args` of an open demonstration file."""
+  """The `env_args` of an open demonstration file.
+
+  Args:
+    f: the file, open for reading.
+  Returns:
+    The dict env_args() made when the file was written.
+  """
   return json.loads(f["data"].attrs["env_args"])
 
 
 def demo_names(f: h5py.File) -> list[str]:
-  """Demo group names in index order (demo_0, demo_1, ..., not string order)."""
+  """Demo group names in index order (demo_0, demo_1, ..., not string order).
+
+  Args:
+    f: the file, open for reading.
+  Returns:
+    The names under data/.
+  """
   return sorted(f["data"].keys(), key=lambda n: int(n.split("_")[1]))
 
 

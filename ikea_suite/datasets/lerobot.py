@@ -44,7 +44,13 @@ DEFAULT_CODEC = "libx264"
 
 
 def split_obs(demo: h5py.Group) -> tuple[list[str], dict[str, str]]:
-  """(state keys, {video feature name: rgb obs key}) of a demo's obs group."""
+  """(state keys, {video feature name: rgb obs key}) of a demo's obs group.
+
+  Args:
+    demo: a data/demo_<i> group.
+  Returns:
+    (sorted non-camera obs keys, {"observation.images.<camera>": rgb obs key}).
+  """
   state, videos = [], {}
   for key in sorted(demo["obs"]):
     data = demo["obs"][key]
@@ -97,6 +103,10 @@ def export(path: str, out_dir: str, codec: str = DEFAULT_CODEC, task: str | None
 
   Returns:
     The info.json contents.
+
+  Raises:
+    IkeaSuiteError: a file with no demos.
+    OSError: a file that cannot be read or written.
   """
   with h5py.File(path, "r") as f:
     args = hdf5.read_env_args(f)
@@ -196,7 +206,8 @@ def export(path: str, out_dir: str, codec: str = DEFAULT_CODEC, task: str | None
   return info
 
 
-def main(argv=None) -> int:
+def main(argv: list[str] | None = None) -> int:
+  """ikea-suite-export-lerobot: exports a file; returns the exit status."""
   parser = argparse.ArgumentParser(description="Export demonstrations as a LeRobot v3.0 dataset.")
   parser.add_argument("file")
   parser.add_argument("out_dir")

@@ -10,8 +10,10 @@ connected by this step (-1, -1 when none) and the connections made so far.
 import dataclasses
 from collections.abc import Callable
 
+import dm_env
 import numpy as np
 
+from ikea_suite import environment
 from ikea_suite.datasets import mj_state
 
 NO_PAIR = (-1, -1)
@@ -32,6 +34,7 @@ class Episode:
 
   @property
   def num_samples(self) -> int:
+    """Number of steps (actions) in the episode."""
     return len(self.actions)
 
 
@@ -43,7 +46,7 @@ class EpisodeRecorder:
     seed: the seed its random state was set to before `reset` (stored with the demo).
   """
 
-  def __init__(self, env, seed: int):
+  def __init__(self, env: environment.Environment, seed: int):
     self._env, self._seed = env, int(seed)
     self._steps = {name: [] for name in ("actions", "rewards", "dones", "states")}
     self._obs, self._next_obs = [], []
@@ -56,8 +59,16 @@ class EpisodeRecorder:
     self._obs.append({k: np.array(v) for k, v in observation.items()})
     self._made = len(self._env.task.state.connections)
 
-  def after_step(self, action: np.ndarray, timestep, phase: str = "", part: int = -1) -> None:
-    """Stores the action, its outcome and the subtask labels of the step just taken."""
+  def after_step(self, action: np.ndarray, timestep: dm_env.TimeStep, phase: str = "",
+                 part: int = -1) -> None:
+    """Stores the action, its outcome and the subtask labels of the step just taken.
+
+    Args:
+      action: the action just sent.
+      timestep: what env.step returned for it.
+      phase: the expert's phase name ("" for none).
+      part: the part the expert is bringing in, -1 for none.
+    """
     task = self._env.task
     self._steps["actions"].append(np.asarray(action, dtype=np.float64))
     self._steps["rewards"].append(float(timestep.reward))
@@ -85,7 +96,7 @@ class EpisodeRecorder:
         success=bool(self._env.task.state.complete))
 
 
-def record_episode(env, policy: Callable, seed: int,
+def record_episode(env: environment.Environment, policy: Callable, seed: int,
                    subtask: Callable[[], tuple[str, int]] | None = None) -> Episode:
   """Runs one episode of `policy` from the random state `seed` and records it.
 

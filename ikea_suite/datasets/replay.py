@@ -20,6 +20,7 @@ import sys
 import h5py
 import numpy as np
 
+from ikea_suite import environment
 from ikea_suite import errors
 from ikea_suite.datasets import hdf5
 from ikea_suite.datasets import mj_state
@@ -36,6 +37,7 @@ class Replay:
 
   @property
   def max_divergence(self) -> float:
+    """Largest divergence over all steps (0.0 for a replay that matched exactly)."""
     return float(self.divergence.max()) if len(self.divergence) else 0.0
 
   @property
@@ -45,7 +47,7 @@ class Replay:
     return int(bad[0]) if len(bad) else -1
 
 
-def replay_demo(env, demo: h5py.Group, name: str, keep_obs: tuple[str, ...] = ()) -> Replay:
+def replay_demo(env: environment.Environment, demo: h5py.Group, name: str, keep_obs: tuple[str, ...] = ()) -> Replay:
   """Replays one demo group in `env` (built from the file's env_args).
 
   Args:
@@ -75,7 +77,19 @@ def replay_demo(env, demo: h5py.Group, name: str, keep_obs: tuple[str, ...] = ()
 
 def replay_file(path: str, render_to: str | None = None, cameras: tuple[str, ...] = (),
                 image_size: int = 84) -> list[Replay]:
-  """Replays every demo of `path`; with `render_to`, writes a copy with re-rendered images."""
+  """Replays every demo of `path`; with `render_to`, writes a copy with re-rendered images.
+
+  Args:
+    path: a demonstration HDF5 file.
+    render_to: path of the copy with rendered images, or None to only replay.
+    cameras: camera names to render (with render_to).
+    image_size: rendered image side, pixels.
+  Returns:
+    One Replay per demo, in index order.
+  Raises:
+    OptionValueError: render_to given with no camera.
+    OSError: a file that cannot be read or written.
+  """
   with h5py.File(path, "r") as f:
     args = hdf5.read_env_args(f)
     overrides = {"cameras": tuple(cameras), "image_size": image_size} if render_to else {}
@@ -98,7 +112,8 @@ def replay_file(path: str, render_to: str | None = None, cameras: tuple[str, ...
   return reports
 
 
-def main(argv=None) -> int:
+def main(argv: list[str] | None = None) -> int:
+  """ikea-suite-replay: replays a file and prints divergences; returns the exit status."""
   parser = argparse.ArgumentParser(description="Replay demonstrations and report divergence.")
   parser.add_argument("file")
   parser.add_argument("--render", default=None, metavar="OUT.hdf5",

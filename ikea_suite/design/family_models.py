@@ -36,3 +36,8 @@ def _all():
 def blueprints():
   """All blueprints, sorted by name; names are unique and read category_family_variant."""
   return list(_all())
+
+
+def clear_cache():
+  """Forgets the gathered blueprints, so the next blueprints() builds them afresh."""
+  _all.cache_clear()

@@ -16,6 +16,7 @@ the furniture an expert assembled in at least 8 of 10 fresh seeds
 
 from typing import Any, Callable
 
+from ikea_suite import environment
 from ikea_suite import errors
 from ikea_suite.experts import bimanual
 from ikea_suite.experts import supported as supported_lib
@@ -27,7 +28,7 @@ from ikea_suite.robots import control_modes
 ROBOTS = tuple(supported_lib.SUPPORTED)
 
 
-def supported(robot: str) -> tuple:
+def supported(robot: str) -> tuple[str, ...]:
   """Furniture names `robot`'s expert assembles (measured; see experts/supported.py).
 
   Args:
@@ -46,6 +47,11 @@ def supported(robot: str) -> tuple:
 def supported_scale(robot: str, furniture: str) -> float:
   """The scale `robot`'s expert assembles `furniture` at (1.0 for the Cursor).
 
+  Args:
+    robot: a robot name with an expert (ROBOTS).
+    furniture: a furniture name in supported(robot).
+  Returns:
+    The load(scale=...) factor the expert's measurement used.
   Raises:
     UnknownNameError: the pair is not supported.
   """
@@ -56,12 +62,17 @@ def supported_scale(robot: str, furniture: str) -> float:
   return 1.0 if table is None else float(table[furniture])
 
 
-def supported_pairs() -> tuple:
-  """Every (furniture, robot) pair with an expert that assembles it."""
+def supported_pairs() -> tuple[tuple[str, str], ...]:
+  """Every (furniture, robot) pair with an expert that assembles it.
+
+  Returns:
+    (furniture, robot) pairs, robot-major in ROBOTS order.
+  """
   return tuple((f, r) for r in ROBOTS for f in supported(r))
 
 
-def make_expert(env, require_supported: bool = False) -> Callable[[Any], Any]:
+def make_expert(env: environment.Environment,
+                require_supported: bool = False) -> Callable[[Any], Any]:
   """The scripted expert for `env`'s robot: a callable TimeStep -> action with reset().
 
   Args:
@@ -81,7 +92,7 @@ def make_expert(env, require_supported: bool = False) -> Callable[[Any], Any]:
     supported_scale(name, env.task.furniture.name)
   if name == "cursor":
     return cursor_oracle.CursorOracle(env)
-  if getattr(robot, "control_mode", None) != control_modes.TASK_SPACE:
+  if robot.control_mode != control_modes.TASK_SPACE:
     raise errors.IkeaSuiteError(
         f"the {name} expert drives the arm in control_mode='task_space', "
         f"got control_mode={robot.control_mode!r}")

@@ -8,6 +8,7 @@ working goes back to its home pose, out of the other's way. Both act only
 through the action vector.
 """
 
+import dm_env
 import numpy as np
 
 from ikea_suite.oracle import arm_controller
@@ -36,11 +37,18 @@ class TwoArmExpert:
     self.arms_used = set()
 
   @property
-  def phase(self):
+  def active_arm(self) -> int:
+    """The arm (0 right, 1 left) fetching the current part; the other waits at home."""
+    return self._active
+
+  @property
+  def phase(self) -> arm_controller.Phase:
+    """The active arm's controller phase."""
     return self._arms[self._active].phase
 
   @property
-  def job(self):
+  def job(self) -> tuple[int, int] | None:
+    """The active arm's (connector pair, moving part), or None between parts."""
     return self._arms[self._active].job
 
   def _side(self, part):
@@ -50,17 +58,16 @@ class TwoArmExpert:
     local = base_rot.T @ (positions[part] - base_pos)
     return 0 if local[1] < 0 else 1
 
-  def __call__(self, timestep=None) -> np.ndarray:
+  def __call__(self, timestep: dm_env.TimeStep | None = None) -> np.ndarray:
+    """The action (both arms, then connect) from privileged state; `timestep` may be None."""
     controller = self._arms[self._active]
     action = controller(timestep)
     job = controller.job
-    if (job is not None and controller.phase == arm_controller.Phase.REACH
-        and controller._counter == 1):   # a part just chosen, not yet approached
+    if job is not None and controller.job_just_chosen:   # a part chosen, not yet approached
       side = self._side(job[1])
       if side != self._active:
         other = self._arms[side]
-        other.reset()
-        other._connections = len(self._env.task.state.connections)
+        other.take_over()
         self._active = side
         controller, action = other, other(timestep)
     self.arms_used.add(self._active)

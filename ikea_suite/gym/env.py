@@ -43,6 +43,9 @@ class AssemblyEnv(gymnasium.Env):
     render_camera: arena camera drawn by `render()` ("front", "top" or "side").
     render_size: (height, width) of `render()` frames, pixels.
     **load_options: any option of `ikea_suite.load` (time_limit, reward, cameras, ...).
+  Raises:
+    UnknownNameError: an unknown render mode, render camera, or load() name.
+    OptionValueError: a load() option out of range.
   """
 
   metadata = {"render_modes": list(RENDER_MODES), "render_fps": 20}
@@ -78,7 +81,8 @@ class AssemblyEnv(gymnasium.Env):
     return {"connections": len(task.state.connections), "success": bool(task.state.complete),
             "blocked_connections": tuple(task.blocked_connections)}
 
-  def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+  def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None
+            ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
     """Starts an episode.
 
     Args:
@@ -87,6 +91,10 @@ class AssemblyEnv(gymnasium.Env):
 
     Returns:
       (observation, info).
+
+    Raises:
+      OptionValueError: a seed out of range.
+      UnknownNameError: any reset option.
     """
     if seed is not None and not 0 <= int(seed) <= _MAX_SEED:
       raise errors.OptionValueError(f"seed must be in [0, {_MAX_SEED}], got {seed}")
@@ -99,7 +107,8 @@ class AssemblyEnv(gymnasium.Env):
     self._needs_reset = False
     return self._observation(timestep), self._info()
 
-  def step(self, action: np.ndarray):
+  def step(self, action: np.ndarray
+           ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
     """Advances one control step.
 
     Args:
@@ -107,6 +116,10 @@ class AssemblyEnv(gymnasium.Env):
 
     Returns:
       (observation, reward, terminated, truncated, info).
+
+    Raises:
+      ResetNeeded: before reset() or after the episode ended.
+      ActionError: an action of the wrong shape or with non-finite entries.
     """
     if self._needs_reset:
       raise ResetNeeded("call reset() before step() and after an episode ends")

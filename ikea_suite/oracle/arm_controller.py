@@ -39,7 +39,7 @@ class ArmAssemblyController:
   def __init__(self, env, arm=0, hover=0.12, lift=0.12, carry=0.5, approach=0.08, tolerance=0.9,
                close_steps=8, release_steps=6, stall_steps=150):
     robot = env.task.robot
-    if getattr(robot, "control_mode", None) != control_modes.TASK_SPACE:
+    if robot.control_mode != control_modes.TASK_SPACE:
       raise errors.IkeaSuiteError(
           "ArmAssemblyController drives an arm in control_mode='task_space'")
     self._env, self._robot, self._arm = env, robot, arm
@@ -93,6 +93,16 @@ class ArmAssemblyController:
     """(connector pair, moving part) being worked on, or None."""
     return self._job
 
+  @property
+  def job_just_chosen(self):
+    """True on the step a new part was chosen, before the arm moves towards it."""
+    return self.phase == Phase.REACH and self._counter == 1
+
+  def take_over(self):
+    """Starts afresh from the present assembly, e.g. after another arm made connections."""
+    self.reset()
+    self._connections = len(self._env.task.state.connections)
+
   # -- choosing work -----------------------------------------------------------------
 
   def _choose_job(self):
@@ -120,7 +130,8 @@ class ArmAssemblyController:
 
   # -- geometry from privileged state -----------------------------------------------
 
-  def _closing_local(self):
+  def closing_local(self):
+    """The fingers' closing direction in the tool frame (unit, horizontal when pointing down)."""
     physics = self._env.physics
     fingers = self._robot.finger_positions(physics, self._arm)
     _, rot = self._robot.tcp_pose(physics, self._arm)
@@ -148,7 +159,7 @@ class ArmAssemblyController:
       long_axis = np.array([1.0, 0.0, 0.0])
     long_axis /= np.linalg.norm(long_axis)
     closing = np.cross([0.0, 0.0, 1.0], long_axis) * (self._grasp_sign if sign is None else sign)
-    return point, arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self._closing_local())
+    return point, arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
 
   def _choose_grasp_sign(self, moving):
     """Which of the two symmetric grasps the wrist reaches best and leaves the easier mating."""

@@ -16,9 +16,10 @@ import numpy as np
 from ikea_suite import geometry
 from ikea_suite.assembly import sequence
 from ikea_suite.oracle import targets
+from ikea_suite.robots import cursor as cursor_lib
 from ikea_suite.tasks import planner
 
-_PER_CURSOR = 7
+_PER_CURSOR = len(cursor_lib.PER_CURSOR_ACTIONS)   # entries per cursor; select is the last
 _TRAVEL_TOL = 0.05     # metres: pass a travel point this close
 _PATH_TOL = (0.012, 0.04)   # metres, radians: reach insertion-path points this close
 _SLENDER = 0.1         # smallest / largest principal inertia below which a part is slender

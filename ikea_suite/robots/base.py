@@ -1,6 +1,7 @@
 """What an assembly task needs from an agent, whatever its body."""
 
 import abc
+import inspect
 
 from dm_control import composer
 
@@ -11,6 +12,15 @@ class Robot(composer.Entity, abc.ABC):
   The task appends one `connect` entry after the robot's own actions, so a
   robot never sees it.
   """
+
+  # Furniture scale (load(scale=...)) that fits this robot's reach; 1.0: full size.
+  WORK_SCALE = 1.0
+
+  @classmethod
+  def option_defaults(cls):
+    """The load() options this robot takes (its constructor keywords but `name`) -> defaults."""
+    params = inspect.signature(cls._build).parameters   # composer.Entity passes kwargs to _build
+    return {n: p.default for n, p in params.items() if n not in ("self", "name")}
 
   @property
   @abc.abstractmethod
@@ -30,6 +40,12 @@ class Robot(composer.Entity, abc.ABC):
 
   def on_parts_moved(self, physics, part_indices):
     """Called after the task snapped parts to new poses during a connection."""
+
+  @property
+  def control_mode(self):
+    """How actions drive the robot (a robots.control_modes name), or None for a robot with
+    one fixed action layout (the Cursor)."""
+    return None
 
   @property
   def reach_zone(self):

@@ -62,6 +62,16 @@ class TaskSpaceTargets:
     self._workspace = np.asarray(workspace, dtype=float)   # (num_arms, 2, 3) world boxes
     self._max_lag = max_lag
 
+  @property
+  def max_translation(self):
+    """Metres a delta target moves per step at an action of 1."""
+    return self._max_translation
+
+  @property
+  def max_rotation(self):
+    """Radians a delta target turns per step at an action of 1."""
+    return self._max_rotation
+
   def reset(self, poses):
     for i, (pos, rot) in enumerate(poses):
       self.pos[i], self.rot[i] = pos, rot

@@ -18,9 +18,11 @@ from ikea_suite import physics_settings
 from ikea_suite.robots import base
 
 NUM_CURSORS = 2
-_PER_CURSOR = ("move_x", "move_y", "move_z", "rotate_x", "rotate_y", "rotate_z", "select")
+# Action entries of each cursor, in order; the action names are f"cursor{i}_{entry}".
+PER_CURSOR_ACTIONS = ("move_x", "move_y", "move_z", "rotate_x", "rotate_y", "rotate_z", "select")
 _COLORS = ((0.1, 0.4, 0.95, 0.8), (0.95, 0.3, 0.1, 0.8))
-_HOME = ((-0.4, 0.0, 0.6), (0.4, 0.0, 0.6))
+# World positions (m) of cursors 0 and 1 at the start of an episode (world-aligned).
+HOME_POSITIONS = ((-0.4, 0.0, 0.6), (0.4, 0.0, 0.6))
 
 
 class Cursor(base.Robot):
@@ -57,7 +59,7 @@ class Cursor(base.Robot):
 
   @property
   def action_names(self):
-    return [f"cursor{i}_{a}" for i in range(NUM_CURSORS) for a in _PER_CURSOR]
+    return [f"cursor{i}_{a}" for i in range(NUM_CURSORS) for a in PER_CURSOR_ACTIONS]
 
   @property
   def move_speed(self):
@@ -112,7 +114,7 @@ class Cursor(base.Robot):
   def initialize_episode(self, physics, random_state):
     self._held[:] = -1
     for i in range(NUM_CURSORS):
-      self.set_cursor_pose(physics, i, np.array(_HOME[i]), np.eye(3))
+      self.set_cursor_pose(physics, i, np.array(HOME_POSITIONS[i]), np.eye(3))
 
   def cursor_positions(self, physics):
     """(2, 3) world positions of both cursors."""
@@ -146,7 +148,7 @@ class Cursor(base.Robot):
     data.qvel[self._ball_vel_index[i]] = 0.0
 
   def apply_action(self, physics, action, random_state):
-    action = action.reshape(NUM_CURSORS, len(_PER_CURSOR))
+    action = action.reshape(NUM_CURSORS, len(PER_CURSOR_ACTIONS))
     qpos = self._qpos
     positions = np.minimum(np.maximum(
         qpos[self._slide_qpos] + action[:, :3] * (self._move_speed * self._dt),

@@ -23,7 +23,7 @@ class DifferentialIK:
   def __init__(self, mjcf_model, tcp_sites, arm_joints, velocity_limit, solver="daqp"):
     """`tcp_sites`: one site element per arm; `arm_joints`: joint elements velocity-limited."""
     self._physics = mjcf.Physics.from_mjcf_model(mjcf_model)
-    model = self._physics.model._model
+    model = self._physics.model.ptr   # the raw mujoco.MjModel, as mink wants
     self.model = model
     self.joints = [j for j in mjcf_model.find_all("joint") if j.tag == "joint"]
     self.qpos_index = np.array(self._physics.bind(self.joints).qposadr)

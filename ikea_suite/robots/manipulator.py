@@ -135,7 +135,7 @@ class Manipulator(base.Robot):
     return _HOME_CACHE[key].copy()
 
   def _box_to_world(self, box):
-    corners = np.array([[x, y, z] for x in box[:, 0] for y in box[:, 1] for z in box[:, 2]])
+    corners = geometry.box_corners(box[0], box[1])
     world = corners @ self._base_rot.T + self._base_pos
     return np.stack([world.min(0), world.max(0)])
 
@@ -147,7 +147,23 @@ class Manipulator(base.Robot):
 
   @property
   def control_mode(self):
+    """The control mode given at construction (robots.control_modes)."""
     return self._mode
+
+  @property
+  def max_translation(self):
+    """Metres the task-space target moves per control step at a move action of 1."""
+    return self._targets.max_translation
+
+  @property
+  def max_rotation(self):
+    """Radians the task-space target turns per control step at a rotate action of 1."""
+    return self._targets.max_rotation
+
+  @property
+  def ik(self):
+    """The robot's differential IK (ik.DifferentialIK, on its own copy of the arm model)."""
+    return self._ik
 
   @property
   def num_arms(self):
@@ -162,6 +178,11 @@ class Manipulator(base.Robot):
     """Named wrist cameras ("wrist", or "right_wrist" and "left_wrist"), selectable with
     load(cameras=...) for RGB, depth, segmentation and part boxes."""
     return {f"{arm.prefix}wrist": arm.camera for arm in self._arms}
+
+  @property
+  def wrist_camera_size(self):
+    """(height, width) in pixels of the wrist camera observables, or None when they are off."""
+    return self._camera_size if self._wrist_camera else None
 
   @property
   def base_pose(self):
@@ -279,6 +300,10 @@ class Manipulator(base.Robot):
     """Joint positions of every arm joint the IK drives, in IK order."""
     return physics.data.qpos[self._ik_to_qpos].copy()
 
+  def ik_joint_indices(self, arm=0):
+    """Indices into `ik.joints` of one arm's joints, base to wrist."""
+    return self._arm_ik[arm].copy()
+
   def tcp_pose(self, physics, arm=0):
     """World position and rotation matrix of an arm's tool-centre point."""
     site = self._tcp_ids[arm]
@@ -312,6 +337,11 @@ class Manipulator(base.Robot):
     miss = (np.linalg.norm(pos - targets[arm][0])
             + 0.2 * np.linalg.norm(geometry.mat_to_axis_angle(rot @ targets[arm][1].T)))
     return float(miss), margin, float(np.linalg.norm(solution - q))
+
+  @property
+  def finger_actuator_ids(self):
+    """(arms, fingers) MuJoCo actuator ids of the gripper fingers (set after compile)."""
+    return self._finger_act.copy()
 
   def task_space_target(self, arm=0):
     """World position and rotation of the tool target the task-space modes track."""
@@ -356,8 +386,8 @@ class ManipulatorObservables(composer.Observables):
 
   def __init__(self, entity):
     super().__init__(entity)
-    if entity._wrist_camera:
-      height, width = entity._camera_size
+    if entity.wrist_camera_size is not None:
+      height, width = entity.wrist_camera_size
       for arm in entity.arms:
         self.add_observable(f"{arm.prefix}wrist_camera",
                             observable.MJCFCamera(arm.camera, height=height, width=width))

@@ -26,11 +26,6 @@ from ikea_suite.tasks import planner
 _FLIP = np.diag([1.0, -1.0, -1.0])   # half a turn about the world x axis
 
 
-def _corners(bounds):
-  lo, hi = bounds
-  return np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
-
-
 def mates_from_below(spec, table, root):
   """Whether, in the assembled furniture, the root's mates lie mostly below its connectors."""
   by_name = spec.parts
@@ -43,7 +38,7 @@ def mates_from_below(spec, table, root):
   return bool(heights) and float(np.mean(heights)) < 0
 
 
-class ReachableParts(composer.Initializer):
+class ReachableParts(placement.PartInitializer):
   """Root part in front of the base, the rest in a band around it; random yaw and position.
 
   Args:
@@ -81,7 +76,6 @@ class ReachableParts(composer.Initializer):
       self._reach = min_distance + spread
     self._yaw_range = float(yaw_range)
     self._groups = placement.ScatteredParts(furniture, preassembled=preassembled)
-    self.preassembled_pairs = []
     spec = furniture.spec
     self._root = planner.root_part(spec)
     rest = placement.resting_rotation(spec.parts[self._root].bounds)
@@ -89,11 +83,18 @@ class ReachableParts(composer.Initializer):
 
   @property
   def root_part(self):
+    """Index of the part placed in front of the base (the one everything is built onto)."""
     return self._root
+
+  @property
+  def preassembled_pairs(self):
+    """Connector pairs (indices into the furniture's table) placed mated this episode."""
+    return self._groups.preassembled_pairs
 
   def _item_footprint(self, item, yaw_rot):
     """World-aligned corners, centre and radius of a group of (part, rot, pos) turned by yaw_rot."""
-    corners = np.concatenate([_corners(self._furniture.spec.parts[i].bounds) @ (yaw_rot @ rot).T
+    corners = np.concatenate([geometry.box_corners(*self._furniture.spec.parts[i].bounds)
+                              @ (yaw_rot @ rot).T
                               + yaw_rot @ pos for i, rot, pos in item])
     centre = (corners[:, :2].max(0) + corners[:, :2].min(0)) / 2
     return corners, centre, np.linalg.norm(corners[:, :2] - centre, axis=1).max()
@@ -108,8 +109,7 @@ class ReachableParts(composer.Initializer):
       part.set_velocity(physics, velocity=np.zeros(3), angular_velocity=np.zeros(3))
 
   def __call__(self, physics, random_state):
-    items = self._groups._items(random_state)   # single parts lie flat; joined groups upright
-    self.preassembled_pairs = list(self._groups.preassembled_pairs)
+    items = self._groups.draw_items(random_state)   # single parts lie flat; joined groups upright
     root_item = next(item for item in items if any(i == self._root for i, _, _ in item))
     if len(root_item) == 1:   # the root alone: turned over when its mates attach from below
       root_item = [(self._root, self._root_rest, np.zeros(3))]

@@ -6,6 +6,7 @@ from dm_control import composer
 from dm_env import specs
 from dm_control.composer.observation import observable
 
+from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite import physics_settings
 from ikea_suite.assembly import sequence
@@ -67,6 +68,10 @@ class Assembly(composer.Task):
     if initializer is None:   # a fixed-base arm keeps parts within its reach
       initializer = (placement.ScatteredParts(furniture) if robot.reach_zone is None
                      else arm_placement.reachable_parts(furniture, robot.reach_zone))
+    if not isinstance(initializer, placement.PartInitializer):
+      raise errors.IkeaSuiteError(
+          f"initializer must be a placement.PartInitializer (it names the pairs it placed "
+          f"mated), got {type(initializer).__name__}")
     self._initializer = initializer
     self._step_reward = 0.0
     self._blocked = ()
@@ -124,7 +129,7 @@ class Assembly(composer.Task):
     self._collisions.reset(physics)
     self._initializer(physics, random_state)
     # Curriculum initializers leave connector pairs they placed assembled.
-    for pair in getattr(self._initializer, "preassembled_pairs", ()):
+    for pair in self._initializer.preassembled_pairs:
       self.connect_in_place(physics, pair)
     self._step_reward = 0.0
     if self._dense is not None:
@@ -183,6 +188,10 @@ class Assembly(composer.Task):
   def welded_part_pairs(self, physics):
     """Sorted (i, j) part pairs whose weld is on."""
     return self._welds.active_pairs(physics)
+
+  def weld_relative_poses(self, physics):
+    """{(i, j): (7,) pose of part j in part i's frame (m; quaternion w x y z)} for each weld on."""
+    return self._welds.relative_poses(physics)
 
   @property
   def loop_closures(self):

@@ -146,7 +146,8 @@ class CameraRig(composer.Entity):
 
   # -- rendering -----------------------------------------------------------------
 
-  def _renderer(self, physics, name):
+  def renderer(self, physics, name):
+    """The cameras.MultiKindCamera that draws camera `name` for `physics` (made on first use)."""
     if name not in self._renderers:
       self._renderers[name] = cameras.MultiKindCamera(
           physics, self._height, self._width, self._camera_ids[name], self._labels)
@@ -157,7 +158,7 @@ class CameraRig(composer.Entity):
     if key != self._frames_key:
       self._frames, self._frames_key = {}, key
     if name not in self._frames:
-      self._frames[name] = self._renderer(physics, name).render_kinds(self._kinds)
+      self._frames[name] = self.renderer(physics, name).render_kinds(self._kinds)
     return self._frames[name]
 
   def _goal_frame(self, physics, name):
@@ -176,7 +177,7 @@ class CameraRig(composer.Entity):
       spec = part.spec
       part.set_pose(physics, position=spec.pos, quaternion=geometry.mat_to_quat(spec.rot))
     physics.forward()
-    frames = {name: self._renderer(physics, name).render_kinds(self._kinds)
+    frames = {name: self.renderer(physics, name).render_kinds(self._kinds)
               for name in self._elements}
     mujoco.mj_setState(model, data, saved, what)
     physics.forward()

@@ -1,5 +1,7 @@
 """Initial placement: every part lies flat on the floor, scattered around the assembly area."""
 
+import abc
+
 import numpy as np
 from dm_control import composer
 from dm_control.composer.variation import distributions
@@ -22,7 +24,20 @@ def assembled_radius(spec):
   return max(np.linalg.norm(p.assembled_corners()[:, :2], axis=1).max() for p in spec.parts)
 
 
-class ScatteredParts(composer.Initializer):
+class PartInitializer(composer.Initializer, abc.ABC):
+  """Places the furniture's parts at the start of an episode (the task's `initializer`).
+
+  Besides posing parts it says which connector pairs it placed already
+  mated, so the task welds them before the first step (the curriculum).
+  """
+
+  @property
+  @abc.abstractmethod
+  def preassembled_pairs(self):
+    """Indices into the furniture's connector-pair table placed mated this episode; may be empty."""
+
+
+class ScatteredParts(PartInitializer):
   """Places parts lying flat, random yaw, in a ring around the origin without overlap.
 
   The ring starts `clearance` beyond the assembled furniture's radius and is
@@ -45,11 +60,16 @@ class ScatteredParts(composer.Initializer):
     self._max_attempts = max_attempts
     self._preassembled = preassembled_range(preassembled)
     self._design_pairs = design_pairs(furniture.spec, furniture.connectors)
-    self.preassembled_pairs = []
+    self._preassembled_pairs = []
+
+  @property
+  def preassembled_pairs(self):
+    """Connector pairs (indices into the furniture's table) placed mated this episode."""
+    return list(self._preassembled_pairs)
 
   def __call__(self, physics, random_state):
     placed = []   # (xy, radius)
-    for item in self._items(random_state):
+    for item in self.draw_items(random_state):
       yaw_rot = geometry.rot_z(self._yaw(random_state=random_state))
       rots = [yaw_rot @ rot for _, rot, _ in item]
       offsets = [yaw_rot @ pos for _, _, pos in item]
@@ -66,8 +86,16 @@ class ScatteredParts(composer.Initializer):
   def _spec(self, index):
     return self._furniture.spec.parts[index]
 
-  def _items(self, random_state):
-    """Lists of (part, rotation, position) to place rigidly together, largest first."""
+  def draw_items(self, random_state):
+    """Draws this episode's preassembled groups (see `preassembled_pairs`) and returns them.
+
+    Args:
+      random_state: numpy RandomState.
+    Returns:
+      Lists of (part index, rotation (3, 3), position (3,) in m) to place rigidly
+      together, largest first: a single part lying flat, or a group in its
+      assembled pose relative to the furniture origin.
+    """
     groups = self._choose_groups(random_state)
     items = []
     for group in groups:
@@ -83,7 +111,7 @@ class ScatteredParts(composer.Initializer):
 
   def _choose_groups(self, random_state):
     num_parts = len(self._furniture.parts)
-    self.preassembled_pairs = []
+    self._preassembled_pairs = []
     low, high = self._preassembled
     if high == 0:
       return [[i] for i in range(num_parts)]
@@ -91,12 +119,12 @@ class ScatteredParts(composer.Initializer):
     table = self._furniture.connectors
     group = list(range(num_parts))
     for pair in random_state.permutation(self._design_pairs):
-      if len(self.preassembled_pairs) >= count:
+      if len(self._preassembled_pairs) >= count:
         break
       a, b = group[table.part[table.pair_a[pair]]], group[table.part[table.pair_b[pair]]]
       if a != b:
         group = [a if g == b else g for g in group]
-        self.preassembled_pairs.append(int(pair))
+        self._preassembled_pairs.append(int(pair))
     return [[i for i in range(num_parts) if group[i] == g] for g in sorted(set(group))]
 
   def _sample_xy(self, random_state, radius, placed):

@@ -46,3 +46,9 @@ class PartWelds:
   def active_pairs(self, physics):
     """Sorted (i, j) part pairs whose weld is on."""
     return sorted(pair for pair, i in self._ids.items() if physics.data.eq_active[i])
+
+  def relative_poses(self, physics):
+    """{(i, j): (7,) pose of part j in part i's frame, position (m) then quaternion (w x y z)}
+    held by each weld that is on."""
+    return {pair: physics.model.eq_data[self._ids[pair]][3:10].copy()
+            for pair in self.active_pairs(physics)}

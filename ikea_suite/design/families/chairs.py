@@ -21,8 +21,8 @@ def _seat_and_legs(furniture, seat_width, seat_depth, seat_height, seat_thicknes
   seat = furniture.add_part("seat", (0, 0, seat_height - seat_thickness / 2), geoms=part_geoms.board(
       furniture, (seat_width, seat_depth, seat_thickness), material, cons.solid_wood(material)))
   dx, dy = seat_width / 2 - leg_side / 2, seat_depth / 2 - leg_side / 2
-  legs = tables._leg_geoms(furniture, leg_side, leg_length, material, round_legs,
-                           cons.solid_wood(material))
+  legs = tables.leg_geoms(furniture, leg_side, leg_length, material, round_legs,
+                          cons.solid_wood(material))
   for i, (sx, sy) in enumerate(((1, 1), (-1, 1), (-1, -1), (1, -1))):
     leg = furniture.add_part(f"leg{i}", (sx * dx, sy * dy, leg_length / 2), geoms=legs)
     furniture.connect(leg, seat, (sx * dx, sy * dy, leg_length), up=(0, 0, 1), forward=(1, 0, 0),

@@ -12,8 +12,9 @@ SQUARE_TWISTS = (0, 90, 180, 270)
 GAP = 0.003
 
 
-def _leg_geoms(furniture, leg_side, length, material, round_legs, construction=None):
-  """Legs are solid wood or steel tube by their finish (cons.leg) unless told otherwise."""
+def leg_geoms(furniture, leg_side, length, material, round_legs, construction=None):
+  """Geoms of a square (side `leg_side`) or round leg `length` m long; solid wood or steel tube
+  by its finish (cons.leg) unless `construction` says otherwise."""
   construction = construction or cons.leg(material)
   if round_legs:
     return part_geoms.round_leg(furniture, leg_side / 2, length, material, construction)
@@ -35,10 +36,9 @@ def four_leg_table(name, variant, width=0.55, depth=0.55, height=0.45, top_thick
       furniture, (width, depth, top_thickness), material, top))
   dx = width / 2 - leg_side / 2 - inset
   dy = depth / 2 - leg_side / 2 - inset
-  leg_geoms = _leg_geoms(furniture, leg_side, leg_length, leg_material or material, round_legs,
-                         legs)
+  geoms = leg_geoms(furniture, leg_side, leg_length, leg_material or material, round_legs, legs)
   for i, (sx, sy) in enumerate(((1, 1), (-1, 1), (-1, -1), (1, -1))):
-    leg = furniture.add_part(f"leg{i}", (sx * dx, sy * dy, leg_length / 2), geoms=leg_geoms)
+    leg = furniture.add_part(f"leg{i}", (sx * dx, sy * dy, leg_length / 2), geoms=geoms)
     furniture.connect(leg, top_part, (sx * dx, sy * dy, leg_length), up=(0, 0, 1),
                       forward=(1, 0, 0), type_a="leg_top", type_b="top_leg_slot",
                       twists_deg=() if round_legs else SQUARE_TWISTS)
@@ -124,13 +124,13 @@ def trestle_table(name, variant, length=1.4, depth=0.75, height=0.74, top_thickn
   trestle = shapes.extrude_polygon(shapes.t_profile(foot_length, leg_height, stem, foot),
                                    leg_thickness, plane="yz")
   leg_finish = leg_material or material
-  leg_geoms = part_geoms.concave(furniture, trestle, "trestle", leg_finish,
-                                 cons.solid_wood(leg_finish))
+  trestle_geoms = part_geoms.concave(furniture, trestle, "trestle", leg_finish,
+                                     cons.solid_wood(leg_finish))
   leg_x = length / 2 - 0.15
   legs = []
   for i, sx in enumerate((-1, 1)):
     leg = furniture.add_part(f"trestle{i}", (sx * leg_x, 0, leg_height / 2),
-                             rot=bp.rot_z(0 if i == 0 else np.pi), geoms=leg_geoms)
+                             rot=bp.rot_z(0 if i == 0 else np.pi), geoms=trestle_geoms)
     furniture.connect(leg, top, (sx * leg_x, 0, leg_height), up=(0, 0, 1), forward=leg.rot[:, 0],
                       type_a="trestle_top", type_b="top_trestle_slot", twists_deg=(0, 180))
     legs.append(leg)
