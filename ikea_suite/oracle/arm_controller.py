@@ -397,9 +397,9 @@ class ArmAssemblyController:
 
   def _arc_waypoint(self, goal):
     """A point on an arc around the base towards `goal`: carrying never sweeps across the base."""
-    base, _ = self._robot.base_pose
+    base, base_rot = self._robot.base_pose
     pos, _ = self._robot.tcp_pose(self._env.physics, self._arm)
-    return arm_motion.arc_waypoint(base, pos, goal)
+    return arm_motion.arc_waypoint(base, pos, goal, heading=np.arctan2(base_rot[1, 0], base_rot[0, 0]))
 
   def _attachable(self, pair):
     task = self._env.task

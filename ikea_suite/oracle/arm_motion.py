@@ -67,15 +67,17 @@ def pose_error(robot, physics, arm, goal_pos, goal_rot):
   return np.linalg.norm(goal_pos - pos), np.linalg.norm(geometry.mat_to_axis_angle(goal_rot @ rot.T))
 
 
-def arc_waypoint(base, pos, goal, max_turn=0.25, max_step=0.1):
+def arc_waypoint(base, pos, goal, heading=0.0, max_turn=0.25, max_step=0.1):
   """A point from the tool position `pos` towards `goal` on an arc around the robot base
   `base` (at most `max_turn` rad and `max_step` m per call), so a carried part never
-  sweeps across the base."""
+  sweeps across the base. The arc always passes in front of the base (the side its
+  `heading` faces): the short way round behind it winds the joints into their limits."""
   here, there = pos[:2] - base[:2], goal[:2] - base[:2]
   radius, target_radius = np.linalg.norm(here), np.linalg.norm(there)
-  angle = np.arctan2(here[1], here[0])
-  turn = np.angle(np.exp(1j * (np.arctan2(there[1], there[0]) - angle)))
-  angle += np.clip(turn, -max_turn, max_turn)
+  front = lambda v: np.angle(np.exp(1j * (np.arctan2(v[1], v[0]) - heading)))
+  angle = front(here)
+  angle += np.clip(front(there) - angle, -max_turn, max_turn)
   radius += np.clip(target_radius - radius, -max_step, max_step)
   z = pos[2] + np.clip(goal[2] - pos[2], -max_step, max_step)
-  return np.array([base[0] + radius * np.cos(angle), base[1] + radius * np.sin(angle), z])
+  return np.array([base[0] + radius * np.cos(angle + heading),
+                   base[1] + radius * np.sin(angle + heading), z])

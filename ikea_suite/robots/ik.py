@@ -13,7 +13,7 @@ import qpsolvers
 from dm_control import mjcf
 
 # Regularizes the redundant (null-space) motion of 7-DoF arms towards home.
-_POSTURE_COST = 5e-2
+_POSTURE_COST = 1e-2
 _DAMPING = 1e-3
 
 
