@@ -3,7 +3,8 @@
 A fact sheet lists bodies in tree order with their frame in the parent,
 inertial, joints, collision primitives and the bounds of each visual piece.
 We turn that into MJCF with simple shapes: collision primitives as given
-(hidden, group 3) and one box per sizeable visual piece (coloured, no contact).
+(hidden, group 3) and rounded shapes fitted to each sizeable visual piece
+(coloured MuJoCo `supersphere` meshes, no contact or mass; see visual_shapes).
 """
 
 import functools
@@ -14,13 +15,11 @@ import numpy as np
 from dm_control import mjcf
 
 from ikea_suite import errors
+from ikea_suite.robots import visual_shapes
 
 FACTS_DIR = pathlib.Path(__file__).parent / "facts"
 COLLISION_GROUP = 3
 VISUAL_GROUP = 1
-# Visual pieces smaller than this (largest extent, m) are screws and logos: skipped.
-_MIN_VISUAL_EXTENT = 0.03
-_MAX_VISUALS_PER_BODY = 4
 
 
 @functools.lru_cache(maxsize=None)
@@ -41,21 +40,6 @@ def _float(value, default=0.0):
   return default if value is None else float(value)
 
 
-def _visual_boxes(body):
-  """The largest coloured visual pieces as (centre, half size, rgba)."""
-  pieces = []
-  for piece in body.get("visual_mesh_bounds", []):
-    if piece.get("rgba") is None:
-      continue  # the uncoloured entry is the whole-link collision mesh, not a visual piece
-    lo, hi = (np.asarray(b, dtype=float) for b in piece["bounds_in_body"])
-    extent = hi - lo
-    if extent.max() < _MIN_VISUAL_EXTENT:
-      continue
-    pieces.append(((lo + hi) / 2, np.maximum(extent / 2, 0.002), piece["rgba"]))
-  pieces.sort(key=lambda p: -np.prod(p[1]))
-  return pieces[:_MAX_VISUALS_PER_BODY]
-
-
 def _bounding_box_geoms(body):
   """A box around the whole-link mesh (the uncoloured entry) when the sheet lists no primitive."""
   for piece in body.get("visual_mesh_bounds", []):
@@ -66,10 +50,12 @@ def _bounding_box_geoms(body):
   return []
 
 
-def add_body(parent, body, name_prefix="", pos=None, quat=None, gravcomp=1.0):
+def add_body(parent, body, name_prefix="", pos=None, quat=None, gravcomp=1.0, anchors=()):
   """Adds one fact-sheet body under MJCF element `parent`; returns the new body element.
 
   Geoms never contribute inertia (density 0): the sheet's inertial is the mass.
+  `anchors` are the joints the body houses (visual_shapes.joint_anchors), which
+  shape its visuals.
   """
   element = parent.add("body", name=name_prefix + body["name"],
                        pos=body["pos"] if pos is None else pos,
@@ -96,9 +82,7 @@ def add_body(parent, body, name_prefix="", pos=None, quat=None, gravcomp=1.0):
       if "quat" in geom:
         kwargs["quat"] = geom["quat"]
     element.add("geom", name=f"{name_prefix}{body['name']}_col{k}", **kwargs)
-  for k, (centre, half, rgba) in enumerate(_visual_boxes(body)):
-    element.add("geom", name=f"{name_prefix}{body['name']}_vis{k}", type="box", pos=centre,
-                size=half, rgba=rgba, density=0, contype=0, conaffinity=0, group=VISUAL_GROUP)
+  _add_visuals(element, body, name_prefix, anchors)
   for site in body.get("sites", []):
     element.add("site", name=name_prefix + site["name"], pos=site.get("pos", [0, 0, 0]),
                 quat=site.get("quat", [1, 0, 0, 0]), size=[site["size"][0]], group=4,
@@ -107,6 +91,17 @@ def add_body(parent, body, name_prefix="", pos=None, quat=None, gravcomp=1.0):
     element.add("camera", name=name_prefix + camera["name"], pos=camera["pos"],
                 quat=camera["quat"], fovy=_float(camera.get("fovy"), 60.0))
   return element
+
+
+def _add_visuals(element, body, name_prefix, anchors):
+  """Rounded shapes for the visual pieces, each a MuJoCo `supersphere` mesh of its own
+  size; drawn only: no contact and no mass."""
+  for k, (shape, rgba) in enumerate(visual_shapes.shapes(body, anchors)):
+    name = f"{name_prefix}{body['name']}_vis{k}"
+    element.root.asset.add("mesh", name=name, builtin="supersphere", scale=shape.mesh_scale,
+                           params=(visual_shapes.RESOLUTION, *shape.exponents))
+    element.add("geom", name=name, type="mesh", mesh=name, pos=shape.centre, quat=shape.quat,
+                rgba=rgba, density=0, contype=0, conaffinity=0, group=VISUAL_GROUP)
 
 
 def add_tree(parent, facts, root=None, name_prefix="", skip=(), gravcomp=1.0, pos=None,
@@ -118,15 +113,18 @@ def add_tree(parent, facts, root=None, name_prefix="", skip=(), gravcomp=1.0, po
   """
   bodies = facts["bodies"]
   root = root or bodies[0]["name"]
+  anchors = visual_shapes.joint_anchors(bodies)
   elements = {}
   for body in bodies:
     name = body["name"]
     if name in skip or (name != root and body["parent"] not in elements):
       continue
     if name == root:
-      elements[name] = add_body(parent, body, name_prefix, pos=pos, quat=quat, gravcomp=gravcomp)
+      elements[name] = add_body(parent, body, name_prefix, pos=pos, quat=quat, gravcomp=gravcomp,
+                                anchors=anchors[name])
     else:
-      elements[name] = add_body(elements[body["parent"]], body, name_prefix, gravcomp=gravcomp)
+      elements[name] = add_body(elements[body["parent"]], body, name_prefix, gravcomp=gravcomp,
+                                anchors=anchors[name])
   return elements
 
 
