@@ -184,7 +184,8 @@ def two_boards(directory, twists_a="", twists_b="", yaw_b=0.0, name="boards"):
   return path
 
 
-def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=0.0, poke=0.0):
+def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=0.0, poke=0.0,
+             flip=None):
   """Two side panels and three shelves, each shelf mating both sides: the graph has loops.
 
   Site up axes point out of the shelf ends (+-x); numbered groups as in many of
@@ -192,7 +193,10 @@ def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=0.0, pok
   sits a few centimetres from its place. `bad_loop` (metres) raises the right
   side's top shelf site by that much, so that mate misses when its loop closes.
   `poke` (metres) moves the middle shelf's left site that far in along the shelf,
-  so that the shelf pokes into the left side when the sites coincide.
+  so that the shelf pokes into the left side when the sites coincide. `flip` (a
+  shelf index) writes the left side's site for that shelf with its up axis the wrong
+  way (+x), as one of the original's bookcases does: no pose of the shelf meets both
+  its mates.
   """
   left, right = "0.7071068 0 -0.7071068 0", "0.7071068 0 0.7071068 0"   # up -x, up +x
   heights = (0.1, 0.4, 0.7)
@@ -202,7 +206,8 @@ def bookcase(directory, name="bookcase_loops", assembled=True, bad_loop=0.0, pok
   for s, (x, quat, inner) in enumerate(((-0.4, left, 0.01), (0.4, right, -0.01))):
     sites = "".join(f'\n      <site name="{s}-2,0,180,conn_site{k}" pos="{inner} 0 '
                     f'{z - 0.4 + (bad_loop if s == 1 and k == 2 else 0)}" '
-                    f'quat="{quat}" size="0.01"/>' for k, z in enumerate(heights))
+                    f'quat="{right if s == 0 and k == flip else quat}" size="0.01"/>'
+                    for k, z in enumerate(heights))
     dx, dy, dz = off(s + 1)
     bodies.append(f"""
     <body name="side{s}" pos="{x + dx} {dy} {0.4 + dz}">
@@ -275,6 +280,36 @@ def post_over_shim(directory, name="post_shim"):
     <body name="post" pos="0 0 0.143">
       <geom name="noviz_collision_post_0" type="box" size="0.02 0.02 0.1" density="500"/>
       <site name="post-base,conn_site1" pos="0 0 -0.103" size="0.01"/>
+    </body>
+  </worldbody>
+</mujoco>
+""")
+  return path
+
+
+def frame_facing_back(directory, name="frame_back"):
+  """A base board and a frame standing on it through two sites of one type, twist 0 only.
+
+  The frame's sites face -y while the base's face +y, so the frame must turn a half
+  turn about z to mate; the file writes it unturned, as one of the original's chairs
+  does. Its site at +x then belongs on the base's site at -x: the pairs closest in the
+  file (+x with +x) cannot both hold.
+  """
+  path = pathlib.Path(directory) / f"{name}.xml"
+  path.parent.mkdir(parents=True, exist_ok=True)
+  sites = {"base": "", "frame": ""}
+  for k, x in enumerate((-0.15, 0.15)):
+    sites["base"] += (f'\n      <site name="base-frame,0,conn_site{k}" pos="{x} 0 0.02" '
+                      'size="0.01"/>')
+    sites["frame"] += (f'\n      <site name="frame-base,0,conn_site{k}" pos="{x} 0 -0.1" '
+                       'quat="0 0 0 1" size="0.01"/>')
+  path.write_text(f"""<mujoco model="{name}">
+  <worldbody>
+    <body name="base" pos="0 0 0.02">
+      <geom name="noviz_collision_base_0" type="box" size="0.3 0.2 0.02" density="500"/>{sites["base"]}
+    </body>
+    <body name="frame" pos="0.02 0.03 0.16">
+      <geom name="noviz_collision_frame_0" type="box" size="0.2 0.01 0.1" density="500"/>{sites["frame"]}
     </body>
   </worldbody>
 </mujoco>

@@ -356,3 +356,28 @@ def test_a_slide_that_would_push_into_a_third_part_is_not_made(tmp_path):
   poses = _poses(result.path)
   gap = (poses["post"][0][2] - 0.1) - (poses["shim"][0][2] + 0.001)
   np.testing.assert_allclose(gap, 0.001, atol=1e-6)   # still 1 mm over the shim
+
+
+def test_sites_are_paired_so_that_one_pose_of_the_part_meets_them_all(tmp_path):
+  solved = assemble.solve(reader.read(original_models.frame_facing_back(tmp_path)))
+  assert sorted(solved.pairs) == [("base-frame,0,conn_site0", "frame-base,0,conn_site1"),
+                                  ("base-frame,0,conn_site1", "frame-base,0,conn_site0")]
+  assert not solved.notes
+  pos, rot = solved.poses["frame"]
+  np.testing.assert_allclose(pos, [0, 0, 0.14], atol=1e-9)   # centred on the base, not 30 cm off
+  np.testing.assert_allclose(rot, np.diag([-1, -1, 1]), atol=1e-9)
+  report = validate.check(convert.convert(original_models.frame_facing_back(tmp_path),
+                                          tmp_path / "out").path)
+  assert report.ok, report.problems
+
+
+def test_a_site_written_facing_the_wrong_way_does_not_place_its_part(tmp_path):
+  solved = assemble.solve(reader.read(original_models.bookcase(tmp_path, flip=2)))
+  assert solved.root == "side0" and len(solved.pairs) == 5
+  assert [n for n in solved.notes if "do not meet" in n] == [
+      "sites '0-2,0,180,conn_site2' and '2-0,0,180,conn_site4' do not meet when the parts are "
+      "assembled through their other connectors (their up axes or allowed twists disagree); "
+      "dropped"]
+  for name, (pos, rot) in solved.poses.items():   # every part where the file has it
+    np.testing.assert_allclose(rot, np.eye(3), atol=1e-9, err_msg=name)
+  np.testing.assert_allclose(solved.poses["shelf2"][0], [0, 0, 0.7], atol=1e-9)

@@ -9,13 +9,20 @@ is derived from the connector frames alone:
    (same up axis z). The twists of a type pair are unified over all its sites
    and closed under negation, as our format needs both mates to list the same
    twists and either may be the first of a pair.
-2. Sites are matched greedily, closest pair first (distance between the sites
-   in the file's poses, opposed up axes counted as 10 cm), each site used
-   once: a site `A-B` mates an unused `B-A` on another part.
-3. From a root part (the one with the most matches), mates are chained
-   breadth-first: each new part is placed so that its site coincides with
-   its partner, up axes equal and forwards one allowed twist apart (the twist
-   closest to the file's relative orientation).
+2. Sites are matched greedily, each site used once: a site `A-B` mates an
+   unused `B-A` on another part. Pairs that agree with more of the other
+   candidate pairs between the same two parts go first (placing the second
+   part through the pair makes those sites meet too), then the closest
+   (distance between the sites in the file's poses, opposed up axes counted
+   as 10 cm). Some files write two parts facing the other way, so that the
+   pairs closest in the file cannot all hold at once.
+3. From a root part (the one with the most matches), mates are chained: each
+   new part is placed so that its site coincides with its partner, up axes
+   equal and forwards one allowed twist apart (the twist closest to the file's
+   relative orientation). The next part placed is the one whose placement
+   makes the most of its mates to already placed parts meet, then the one
+   turned least from its orientation in the file, so that a site written
+   facing the wrong way does not decide where its part goes.
 4. Matches that close a loop are kept when they coincide within 0.1 mm;
    when their frames agree but they miss by up to 15 mm (the original
    connects sites within a tolerance), the second site is moved onto the
@@ -108,8 +115,31 @@ def _world(pose, c):
   return pos + rot @ c.pos, rot @ c.rot
 
 
+def _meets(a, b, poses):
+  """Whether two sites meet in the given poses, within the tolerance a loop site is moved."""
+  return _gap(a, b, poses) <= _SNAP_POS and _aligned(a, b, poses)
+
+
+def _support(candidates, connectors, file_poses):
+  """For each candidate pair, how many other candidate pairs between the same two parts
+  meet when the second part is placed through it (the first at its file pose)."""
+  between = collections.defaultdict(list)
+  for _, i, j in candidates:
+    between[(connectors[i].body, connectors[j].body)].append((i, j))
+  support = {}
+  for (body_a, body_b), pairs in between.items():
+    rel_file = file_poses[body_a][1].T @ file_poses[body_b][1]
+    for i, j in pairs:
+      poses = {body_a: file_poses[body_a]}
+      poses[body_b] = _place(file_poses[body_a], connectors[i], connectors[j], rel_file)
+      support[(i, j)] = sum(k != i and l != j and _meets(connectors[k], connectors[l], poses)
+                            for k, l in pairs)
+  return support
+
+
 def _match(connectors, file_poses, notes):
-  """Greedy closest-first matching; returns index pairs and notes on the unmatched sites."""
+  """Greedy matching, most supported then closest first; returns index pairs and notes on
+  the unmatched sites."""
   candidates = []
   for i, a in enumerate(connectors):
     for j in range(i + 1, len(connectors)):
@@ -118,8 +148,9 @@ def _match(connectors, file_poses, notes):
         (pa, ra), (pb, rb) = _world(file_poses[a.body], a), _world(file_poses[b.body], b)
         cost = np.linalg.norm(pa - pb) + _OPPOSED_UP_COST * (1 - ra[:, 2] @ rb[:, 2])
         candidates.append((cost, i, j))
+  support = _support(candidates, connectors, file_poses)
   used, pairs = set(), []
-  for _, i, j in sorted(candidates):
+  for _, i, j in sorted(candidates, key=lambda c: (-support[c[1:]], c)):
     if i not in used and j not in used:
       used.update((i, j))
       pairs.append((i, j))
@@ -128,7 +159,7 @@ def _match(connectors, file_poses, notes):
   for k, c in enumerate(connectors):
     if k in used:
       continue
-    why = ("every site it could mate is taken by a closer pair" if k in could
+    why = ("every site it could mate is taken by a better pair" if k in could
            else f"no site of type {c.mates!r} on another part")
     unmatched.append(f"site {c.site!r} on part {c.body!r} has no partner: {why}")
   notes.extend(f"{u}; dropped" for u in unmatched)
@@ -166,6 +197,47 @@ def _aligned(c_a, c_b, poses):
     return True
   return any(rb[:, 0] @ (ra @ geometry.rot_z(np.radians(t)))[:, 0] > _CLOSE_COS
              for t in c_a.twists_deg)
+
+
+def _turn(rot_a, rot_b):
+  """The angle (rad) between two orientations."""
+  return float(np.arccos(np.clip((np.trace(rot_a.T @ rot_b) - 1) / 2, -1.0, 1.0)))
+
+
+def _chain(root, pairs, connectors, file_poses):
+  """Places the parts from the root outwards, one mate at a time.
+
+  Among the mates from a placed to an unplaced part, the one placing its part so that
+  the most of that part's mates to placed parts meet goes first, then the one turning
+  its part least from the file's relative orientation, then the first found.
+
+  Returns:
+    (poses, tree): body -> (pos, rot), and {frozenset(pair): (parent, child) Connector}.
+  """
+  edges = collections.defaultdict(list)
+  for i, j in pairs:
+    edges[connectors[i].body].append((i, j))
+    edges[connectors[j].body].append((j, i))
+  poses, tree, frontier = {root: file_poses[root]}, {}, list(edges[root])
+  while True:
+    best = None
+    for rank, (own, other) in enumerate(frontier):
+      body, child = connectors[own].body, connectors[other].body
+      if child in poses:
+        continue
+      rel_file = file_poses[body][1].T @ file_poses[child][1]
+      pose = _place(poses[body], connectors[own], connectors[other], rel_file)
+      trial = {**poses, child: pose}
+      met = sum(_meets(connectors[k], connectors[l], trial) for k, l in edges[child]
+                if connectors[l].body in poses)
+      key = (-met, _turn(pose[1], poses[body][1] @ rel_file), rank)
+      if best is None or key < best[0]:
+        best = (key, own, other, child, pose)
+    if best is None:
+      return poses, tree
+    _, own, other, child, poses[child] = best
+    tree[frozenset((own, other))] = (connectors[own], connectors[other])
+    frontier.extend(edges[child])
 
 
 def _weld_notes(model, mated_bodies):
@@ -206,21 +278,7 @@ def solve(model: reader.OriginalModel) -> Assembly:
   degree = collections.Counter(connectors[k].body for pair in pairs for k in pair)
   order = [b.name for b in model.bodies]
   root = max(order, key=lambda name: (degree[name], -order.index(name)))
-  edges = collections.defaultdict(list)
-  for i, j in pairs:
-    edges[connectors[i].body].append((i, j))
-    edges[connectors[j].body].append((j, i))
-  poses, tree, queue = {root: file_poses[root]}, {}, collections.deque([root])
-  while queue:
-    body = queue.popleft()
-    for own, other in edges[body]:
-      child = connectors[other].body
-      if child in poses:
-        continue
-      rel_file = file_poses[body][1].T @ file_poses[child][1]
-      poses[child] = _place(poses[body], connectors[own], connectors[other], rel_file)
-      tree[frozenset((own, other))] = (connectors[own], connectors[other])
-      queue.append(child)
+  poses, tree = _chain(root, pairs, connectors, file_poses)
   unreachable = [name for name in order if name not in poses]
   if unreachable:
     with_sites = {c.body for c in connectors}
