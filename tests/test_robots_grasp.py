@@ -34,6 +34,8 @@ def test_sawyer_lifts_a_leg_by_friction_and_holds_it_two_seconds_while_moving():
 
   start = leg_in_tool()
   start_tcp, _ = robot.tcp_pose(physics)
+  lifted = targets.part_pose(physics, furniture, leg)[0][2]
+  assert lifted > 0.1   # clear of the floor (the controller lifts 12 cm, then carries)
   heights, tcp_path = [], []
   steps = int(round(2.0 / env.control_timestep()))
   for k in range(steps):   # two seconds: a circle in the horizontal plane plus a wrist twist
@@ -46,7 +48,7 @@ def test_sawyer_lifts_a_leg_by_friction_and_holds_it_two_seconds_while_moving():
     heights.append(targets.part_pose(physics, furniture, leg)[0][2])
     tcp_path.append(robot.tcp_pose(physics)[0])
   assert np.ptp(np.array(tcp_path)[:, :2], axis=0).max() > 0.1   # the arm really moved
-  assert min(heights) > 0.3
+  assert min(heights) > 0.1   # held up the whole time (a dropped leg lies at 0.025 m)
   assert np.linalg.norm(leg_in_tool() - start) < 0.02   # no slip in the fingers
   assert not physics.data.eq_active.any()
 
