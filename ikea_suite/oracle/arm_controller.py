@@ -52,29 +52,6 @@ class ArmAssemblyController:
     self._servo = arm_motion.PoseServo()
     self.reset()
 
-  def _measure_pad_below(self):
-    """How far the fingertips reach below the tool-centre point (m), with the tool pointing down.
-
-    Read from the compiled model at the home pose: the lowest corner of any finger
-    collision geom, relative to the TCP along the approach axis.
-    """
-    physics, robot = self._env.physics, self._robot
-    model, data = physics.model, physics.data
-    tcp_pos, tcp_rot = robot.tcp_pose(physics, self._arm)
-    prefix = robot.mjcf_model.model + "/"
-    lowest = 0.0
-    for g in range(model.ngeom):
-      body = model.body(model.geom_bodyid[g]).name
-      if not (body.startswith(prefix) and "finger" in body) or not model.geom_contype[g]:
-        continue
-      half = model.geom_aabb[g, 3:]
-      corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * half
-      world = (data.geom_xpos[g] + (corners + model.geom_aabb[g, :3])
-               @ data.geom_xmat[g].reshape(3, 3).T)
-      along = (world - tcp_pos) @ tcp_rot[:, 2]   # + towards the approach direction
-      lowest = max(lowest, float(along.max()))
-    return lowest
-
   def reset(self):
     self._servo.reset()
     self.phase = Phase.REACH
@@ -150,7 +127,7 @@ class ArmAssemblyController:
     # As low as the fingertips allow (3 mm above the part's underside), so the pads
     # cover as much of a thin part's height as they can; never above its centre.
     if self._pad_below is None:
-      self._pad_below = self._measure_pad_below()
+      self._pad_below = arm_motion.fingertip_reach(self._robot, self._env.physics, self._arm)
     point = point.copy()
     point[2] = min(point[2], corners[:, 2].min() + self._pad_below + 0.003)
     long_axis = part_rot[:, int(np.argmax(bounds[1] - bounds[0]))].copy()

@@ -6,6 +6,26 @@ import numpy as np
 from ikea_suite import geometry
 
 
+def fingertip_reach(robot, physics, arm):
+  """How far the fingertips reach beyond the tool-centre point along the approach axis (m).
+
+  Read from the compiled model in the present pose: the farthest corner of any finger
+  collision geom's bounding box, relative to the TCP.
+  """
+  model, data = physics.model, physics.data
+  tcp_pos, tcp_rot = robot.tcp_pose(physics, arm)
+  prefix = robot.mjcf_model.model + "/"
+  farthest = 0.0
+  for g in range(model.ngeom):
+    body = model.body(model.geom_bodyid[g]).name
+    if not (body.startswith(prefix) and "finger" in body) or not model.geom_contype[g]:
+      continue
+    corners = geometry.box_corners(-model.geom_aabb[g, 3:], model.geom_aabb[g, 3:])
+    world = data.geom_xpos[g] + (corners + model.geom_aabb[g, :3]) @ data.geom_xmat[g].reshape(3, 3).T
+    farthest = max(farthest, float(((world - tcp_pos) @ tcp_rot[:, 2]).max()))
+  return farthest
+
+
 def tool_rotation(approach, closing, closing_local):
   """Tool rotation whose z axis is `approach` and whose finger axis (`closing_local`) is `closing`."""
   local_b = np.cross([0.0, 0.0, 1.0], closing_local)

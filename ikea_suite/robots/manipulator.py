@@ -11,8 +11,6 @@ import dataclasses
 
 import mujoco
 import numpy as np
-from dm_control import composer
-from dm_control.composer.observation import observable
 
 from ikea_suite import errors
 from ikea_suite import geometry
@@ -21,6 +19,7 @@ from ikea_suite.robots import base
 from ikea_suite.robots import control_modes
 from ikea_suite.robots import grippers
 from ikea_suite.robots import ik
+from ikea_suite.robots import manipulator_observables
 
 _HOME_CACHE = {}
 
@@ -219,7 +218,7 @@ class Manipulator(base.Robot):
     self._dt = control_timestep
 
   def _build_observables(self):
-    return ManipulatorObservables(self)
+    return manipulator_observables.ManipulatorObservables(self)
 
   def after_compile(self, physics, random_state):
     bind = physics.bind
@@ -379,35 +378,3 @@ class Manipulator(base.Robot):
 
   def joint_velocities(self, physics):
     return physics.data.qvel[self._arm_dof].ravel().copy()
-
-
-class ManipulatorObservables(composer.Observables):
-  """Arm joint positions and velocities, tool poses, gripper openings; wrist cameras on request."""
-
-  def __init__(self, entity):
-    super().__init__(entity)
-    if entity.wrist_camera_size is not None:
-      height, width = entity.wrist_camera_size
-      for arm in entity.arms:
-        self.add_observable(f"{arm.prefix}wrist_camera",
-                            observable.MJCFCamera(arm.camera, height=height, width=width))
-
-  @composer.observable
-  def joint_positions(self):
-    return observable.Generic(self._entity.joint_positions)
-
-  @composer.observable
-  def joint_velocities(self):
-    return observable.Generic(self._entity.joint_velocities)
-
-  @composer.observable
-  def tcp_positions(self):
-    return observable.Generic(self._entity.tcp_positions)
-
-  @composer.observable
-  def tcp_quaternions(self):
-    return observable.Generic(self._entity.tcp_quaternions)
-
-  @composer.observable
-  def gripper_opening(self):
-    return observable.Generic(self._entity.gripper_openings)
