@@ -122,8 +122,7 @@ class ArmAssemblyController:
     point = targets.grasp_point(physics, furniture, part)
     part_pos, part_rot = targets.part_pose(physics, furniture, part)
     bounds = furniture.spec.parts[part].bounds
-    corners = np.array([[x, y, z] for x in bounds[:, 0] for y in bounds[:, 1]
-                        for z in bounds[:, 2]]) @ part_rot.T + part_pos
+    corners = geometry.box_corners(*bounds) @ part_rot.T + part_pos
     # As low as the fingertips allow (3 mm above the part's underside), so the pads
     # cover as much of a thin part's height as they can; never above its centre.
     if self._pad_below is None:
@@ -179,6 +178,7 @@ class ArmAssemblyController:
     table, state = task.furniture.connectors, task.state
     groups = state.group_labels()
     base_pos, _ = robot.base_pose
+    part_xy = task.furniture.part_poses(physics)[0][moving][:2]
     best = None
     for pair in np.flatnonzero(planner.open_pairs(table, state)):
       parts = {int(table.part[table.pair_a[pair]]), int(table.part[table.pair_b[pair]])}
@@ -192,7 +192,6 @@ class ArmAssemblyController:
         part_pos, part_rot, side = self._part_goal(pair, moving, twist)
         goal_pos, goal_rot = self._tool_goal_for_part(
             moving, part_pos + self._approach * side, part_rot, grip)
-        part_xy = task.furniture.part_poses(physics)[0][moving][:2]
         # A wrist folded in beside the base is cramped: the differential IK stalls there.
         wrist = goal_pos - 0.25 * goal_rot[:, 2]
         cramped = max(0.0, 0.45 - np.linalg.norm(wrist[:2] - base_pos[:2]))
