@@ -6,13 +6,15 @@ short of, where the parts meet. Made to coincide exactly, such parts
 interpenetrate (a toy table's legs 3 mm into its top) or leave a gap (one leg
 of a table 4 mm short, so that the table rocks). Along each mate of the solved
 tree, from the root outwards, the child part, with every part attached beyond
-it, slides along the mate's up axis to where it just touches its partner: out
-of a penetration of up to MAX_PUSH, or across a gap of up to MAX_GAP. The
-child's site moves with the slide, so the mate still coincides; a slide that
-would push the moving parts into a third part is not made; every slide is
-reported. A mate that closes a loop and misses by up to SNAP afterwards has its
-second site moved onto the first (reported); one that misses by more is dropped
-(reported).
+it (less those also mated to parts that stay, when leaving them breaks fewer
+mates: see `_moving`), slides along the mate's up axis to where it just
+touches its partner: out of a penetration of up to MAX_PUSH, or across a gap
+of up to MAX_GAP. The child's site moves with the slide, so the mate still
+coincides; a slide that would push the moving parts into a third part is not
+made; every slide is reported. A mate that a slide left apart (one closing a
+loop, or one to a part that stayed) and that misses by up to SNAP afterwards
+has its second site moved onto the first (reported); one that misses by more
+is dropped (reported).
 """
 
 import mujoco
@@ -130,14 +132,18 @@ def seat(furniture, edges, loops):
     for child in children.get(part, []):
       out += subtree(child)
     return out
+  mates = [(a, b) for a, _, b, _ in list(edges) + list(loops)]
   scene = _Scene(furniture)
   notes = []
-  for parent, parent_site, child, child_site in edges:
+  for index, (parent, parent_site, child, child_site) in enumerate(edges):
     part = parts[child]
     site = next(c for c in part.connectors if c.name == child_site)
     axis = part.rot @ site.rot[:, 2]
-    moving = subtree(child)
+    moving, staying = _moving(child, subtree, mates, index)
     shift, start = _slide(scene, parent, moving, axis)
+    if staying and abs(shift) > SNAP:   # the mates left behind could not be met again
+      moving, staying = subtree(child), []
+      shift, start = _slide(scene, parent, moving, axis)
     if shift == 0.0:
       continue
     others = [name for name in parts if name not in moving and name != parent]
@@ -151,10 +157,13 @@ def seat(furniture, edges, loops):
     site.pos = site.pos - shift * site.rot[:, 2]
     how = ("out of a {:.1f} mm penetration".format(-start * 1000) if start < -_PRESS
            else "to close a gap")
+    stay = (f"; {staying} stayed, as they are mated to parts that do not move" if staying
+            else "")
     notes.append(f"part {child!r} slid {abs(shift) * 1000:.1f} mm along the up axis of site "
-                 f"{child_site!r} to touch {parent!r} ({how}); the site moved with it")
+                 f"{child_site!r} to touch {parent!r} ({how}); the site moved with it{stay}")
   dropped = []
-  for part_a, site_a, part_b, site_b in loops:
+  # Tree mates too: one to a part that stayed behind a slide is apart now.
+  for part_a, site_a, part_b, site_b in list(edges) + list(loops):
     a = next(c for c in parts[part_a].connectors if c.name == site_a)
     b = next(c for c in parts[part_b].connectors if c.name == site_b)
     world_a = parts[part_a].pos + parts[part_a].rot @ a.pos
@@ -172,6 +181,33 @@ def seat(furniture, edges, loops):
     notes.append(f"sites {site_a!r} and {site_b!r} are {gap * 1000:.1f} mm apart after the "
                  "slides; dropped")
   return notes, dropped
+
+
+def _broken(moving, mates, own):
+  """How many mates other than mates[own] join a moving part to one that stays."""
+  return sum((a in moving) != (b in moving) for k, (a, b) in enumerate(mates) if k != own)
+
+
+def _moving(child, subtree, mates, own):
+  """(moving, staying): the parts that slide with `child` along the tree mate mates[own].
+
+  Its whole subtree slides unless a part of it is also mated (a loop) to a part
+  outside: a rigid slide would pull that mate apart. Such parts, and what hangs
+  from them, then stay, when that breaks fewer mates than moving the whole subtree
+  (a back panel mated to both sides slides alone, not with the far side and the
+  shelves that side carries).
+  """
+  full = subtree(child)
+  held = set(full)
+  while True:
+    loose = [p for a, b in mates for p, q in ((a, b), (b, a))
+             if p in held and p != child and q not in held]
+    if not loose:
+      break
+    held -= set(subtree(loose[0]))
+  if len(held) == len(full) or _broken(held, mates, own) >= _broken(set(full), mates, own):
+    return full, []
+  return [p for p in full if p in held], [p for p in full if p not in held]
 
 
 def _clearance(scene, moving, others):
