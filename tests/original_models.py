@@ -315,3 +315,63 @@ def frame_facing_back(directory, name="frame_back"):
 </mujoco>
 """)
   return path
+
+
+def _box_body(name, pos, size, sites):
+  """A body with one collision box (density 500) and sites given as (name, pos, quat)."""
+  xml = "".join(f'\n      <site name="{n}" pos="{p}" quat="{q}" size="0.01"/>' for n, p, q in sites)
+  return f"""
+    <body name="{name}" pos="{pos}">
+      <geom name="noviz_collision_{name}_0" type="box" size="{size}" density="500"/>{xml}
+    </body>"""
+
+
+def _write(directory, name, bodies):
+  path = pathlib.Path(directory) / f"{name}.xml"
+  path.parent.mkdir(parents=True, exist_ok=True)
+  path.write_text(f'<mujoco model="{name}">\n  <worldbody>{"".join(bodies)}\n  </worldbody>\n</mujoco>\n')
+  return path
+
+
+def cabinet_with_back(directory, name="cabinet_back"):
+  """Two sides, two shelves and a back panel that overlaps each side by 2 mm, as in one of
+  the original's bookcases (its back sits in the sides' grooves).
+
+  The back's sites face +y (out of the panel), and it sits 10 mm in from the sides'
+  back edges: it clears the sides by sliding 13 mm back. It mates both sides, and
+  the right side is placed through the back (the left side's first site), so the
+  right side hangs beyond the back in the solved tree while the shelves also hold it.
+  """
+  left, right = "0.7071068 0 -0.7071068 0", "0.7071068 0 0.7071068 0"   # up -x, up +x
+  back_up = "0.7071068 -0.7071068 0 0"                                    # up +y
+  bodies = []
+  for s, (x, quat, inner) in enumerate(((-0.4, left, 0.01), (0.4, right, -0.01))):
+    sites = [(f"{s}-3,0,180,conn_site{s}", f"{inner} 0.14 0", back_up)]
+    sites += [(f"{s}-2,0,180,conn_site{k}", f"{inner} -0.01 {z - 0.4}", quat)
+              for k, z in enumerate((0.1, 0.7))]
+    bodies.append(_box_body(f"side{s}", f"{x} 0 0.4", "0.01 0.15 0.4", sites))
+  for k, z in enumerate((0.1, 0.7)):
+    bodies.append(_box_body(f"shelf{k}", f"0 -0.01 {z}", "0.39 0.14 0.01", [
+        (f"2-0,0,180,conn_site{2 * k}", "-0.39 0 0", left),
+        (f"2-1,0,180,conn_site{2 * k + 1}", "0.39 0 0", right)]))
+  bodies.append(_box_body("back", "0 0.14 0.4", "0.392 0.003 0.38", [
+      (f"3-{s},0,180,conn_site{s}", f"{x} 0 0", back_up) for s, x in enumerate((-0.39, 0.39))]))
+  return _write(directory, name, bodies)
+
+
+def box_with_wide_front(directory, overlap, name="box_front"):
+  """A base board with two side walls and a front panel standing on it, the front's
+  collision box `overlap` metres too wide at each end (into both walls), as some of
+  the original's own collision boxes are. Sliding along its mate (up) cannot clear it.
+  """
+  up = "1 0 0 0"
+  bodies = [_box_body("base", "0 0 0.01", "0.22 0.15 0.01", [
+      ("base-wall,0,180,conn_site1", "-0.21 0 0.01", up),
+      ("base-wall,0,180,conn_site2", "0.21 0 0.01", up),
+      ("base-front,0,conn_site3", "0 -0.14 0.01", up)])]
+  for i, x in enumerate((-0.21, 0.21)):
+    bodies.append(_box_body(f"wall{i}", f"{x} 0 0.07", "0.01 0.15 0.05", [
+        (f"wall-base,0,180,conn_site{i}", "0 0 -0.05", up)]))
+  bodies.append(_box_body("front", "0 -0.14 0.07", f"{0.2 + overlap:.6g} 0.01 0.05", [
+      ("front-base,0,conn_site1", "0 0 -0.05", up)]))
+  return _write(directory, name, bodies)

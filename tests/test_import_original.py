@@ -381,3 +381,47 @@ def test_a_site_written_facing_the_wrong_way_does_not_place_its_part(tmp_path):
   for name, (pos, rot) in solved.poses.items():   # every part where the file has it
     np.testing.assert_allclose(rot, np.eye(3), atol=1e-9, err_msg=name)
   np.testing.assert_allclose(solved.poses["shelf2"][0], [0, 0, 0.7], atol=1e-9)
+
+
+def test_a_slide_leaves_behind_parts_also_mated_to_parts_that_stay(tmp_path):
+  # The back overlaps both sides; the right side hangs beyond it in the solved tree
+  # but is held by the shelves too, so it stays while the back slides out.
+  path = original_models.cabinet_with_back(tmp_path)
+  solved = assemble.solve(reader.read(path))
+  assert ("back", "side1") in [(a.body, b.body) for a, b in solved.tree]
+  result = convert.convert(path, tmp_path / "out")
+  slid = [n for n in result.notes if " slid " in n]
+  assert len(slid) == 1 and slid[0].startswith("part 'back' slid 13.0 mm")
+  assert slid[0].endswith("['side1'] stayed, as they are mated to parts that do not move")
+  assert "site '1-3_0_180_conn_site1' moved 13.0 mm to meet '3-1_0_180_conn_site1' after the " \
+      "slides" in result.notes
+  poses = _poses(result.path)
+  np.testing.assert_allclose(poses["side1"][0] - poses["side0"][0], [0.8, 0, 0], atol=1e-9)
+  np.testing.assert_allclose(poses["back"][0][1] - poses["side0"][0][1], 0.153, atol=1e-5)
+  assert len(result.pairs) == 6
+  report = validate.check(result.path)
+  assert report.ok, report.problems
+
+
+def test_collision_boxes_that_overlap_in_the_files_own_data_are_trimmed_keeping_the_mass(tmp_path):
+  result = convert.convert(original_models.box_with_wide_front(tmp_path, 0.005), tmp_path / "out")
+  trims = [n for n in result.notes if "trimmed" in n]
+  assert trims == [f"collision box 'front_geom0' of part 'front' trimmed 6.5 mm where the file's "
+                   f"own collision shapes overlap part '{wall}' by 5.0 mm in the assembled pose "
+                   "(1.5 mm of air left); the part keeps its mass" for wall in ("wall0", "wall1")]
+  model = mujoco.MjModel.from_xml_path(str(result.path))
+  np.testing.assert_allclose(model.geom("front_geom0").size, [0.1985, 0.01, 0.05], atol=1e-9)
+  np.testing.assert_allclose(model.geom("front_geom0").pos, 0.0, atol=1e-9)   # both ends alike
+  assert _masses(result.path)["front"] == pytest.approx(0.41 * 0.02 * 0.1 * 500)   # as written
+  report = validate.check(result.path)
+  assert report.ok, report.problems
+
+
+def test_an_overlap_deeper_than_a_trim_may_take_is_left_with_the_reason(tmp_path):
+  result = convert.convert(original_models.box_with_wide_front(tmp_path, 0.02), tmp_path / "out")
+  assert not [n for n in result.notes if " trimmed " in n]
+  assert ("parts 'wall0' and 'front' overlap by 20.0 mm in the assembled pose ('wall0_geom0', "
+          "'front_geom0'); not trimmed: deeper than the 15 mm a trim may take") in result.notes
+  assert _masses(result.path)["front"] == pytest.approx(0.44 * 0.02 * 0.1 * 500)
+  report = validate.check(result.path)
+  assert any(p.startswith("overlap: wall") for p in report.problems), report.problems

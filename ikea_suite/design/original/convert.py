@@ -38,6 +38,7 @@ from ikea_suite.design.original import assemble
 from ikea_suite.design.original import names
 from ikea_suite.design.original import reader
 from ikea_suite.design.original import seat
+from ikea_suite.design.original import trim
 
 DEFAULT_CATEGORY = "original"
 FAMILY = "original"
@@ -161,8 +162,8 @@ class _Converter:
     return total
 
   def part_geoms(self, furniture, part_name, body):
-    """Our geoms of one part, each collision geom with (base density, volume, corners)."""
-    out = []   # (bp.Geom, base density or None, volume, corners in the part frame)
+    """Our geoms of one part, each collision geom with (base density, volume)."""
+    out = []   # (bp.Geom, base density or None, volume)
     for g in body.geoms:
       label = f"<geom name={g.name!r}>"
       material = _visual_material(g, self.model, self.material)
@@ -174,8 +175,7 @@ class _Converter:
           continue
         geom = bp.Geom(g.type, tuple(g.size), pos=tuple(g.pos), rot=g.rot, material=material,
                        collide=g.collides, visible=g.visible)
-        out.append((geom, base, _primitive_volume(g.type, g.size),
-                    _primitive_corners(g.type, g.size) @ g.rot.T + g.pos))
+        out.append((geom, base, _primitive_volume(g.type, g.size)))
         continue
       mesh = self.mesh(g.mesh, label)
       prefix = names.safe(f"{self.model.path.stem}_{g.mesh}").lower()
@@ -183,7 +183,7 @@ class _Converter:
         if g.visible:
           geom = bp.Geom("mesh", pos=tuple(g.pos), rot=g.rot, material=material, collide=False,
                          mesh=part_geoms.register_mesh(furniture, mesh, prefix))
-          out.append((geom, None, 0.0, None))
+          out.append((geom, None, 0.0))
         continue
       if mesh.is_convex:
         pieces = [bp.Geom("mesh", pos=tuple(g.pos), rot=g.rot, material=material, visible=g.visible,
@@ -197,19 +197,17 @@ class _Converter:
                           f"into {sum(p.collide for p in pieces)} convex pieces")
       for piece in pieces:
         if not piece.collide:
-          out.append((piece, None, 0.0, None))
+          out.append((piece, None, 0.0))
           continue
-        vertices = furniture.meshes[piece.mesh].vertices
-        out.append((piece, base, abs(furniture.meshes[piece.mesh].volume),
-                    vertices @ g.rot.T + g.pos))
-    if not any(base is not None for _, base, _, _ in out):
+        out.append((piece, base, abs(furniture.meshes[piece.mesh].volume)))
+    if not any(base is not None for _, base, _ in out):
       raise errors.ConversionError(
           self.model.path, f"<body name={body.name!r}>",
           "part has no collision geometry (no colliding primitive or mesh)")
     return out
 
   def set_densities(self, part_name, body, geoms):
-    colliding = [(geom, base, volume) for geom, base, volume, _ in geoms if base is not None]
+    colliding = [(geom, base, volume) for geom, base, volume in geoms if base is not None]
     if self.material is not None:
       for geom, _, _ in colliding:
         geom.construction = construction.BY_NAME[self.material]
@@ -224,6 +222,17 @@ class _Converter:
       return
     for geom, base, _ in colliding:
       geom.construction = construction.solid(base * target / weighted, "the original's mass")
+
+
+def _collision_corners(furniture, part):
+  """Points bounding a part's collision geoms, in the part frame (after any trim)."""
+  out = []
+  for g in part.geoms:
+    if g.collide:
+      local = (furniture.meshes[g.mesh].vertices if g.type == "mesh"
+               else _primitive_corners(g.type, g.size))
+      out.append(local @ g.rot.T + np.asarray(g.pos))
+  return np.concatenate(out)
 
 
 def _positive_volume(g, converter):
@@ -275,14 +284,12 @@ def convert(source: str | pathlib.Path, out_dir: str | pathlib.Path, material: s
   name = names.safe(model.path.stem).lower()
   furniture = bp.Blueprint(name, category, FAMILY, name, f"converted from {model.path.name}")
   furniture.metadata["source"] = model.path.name
-  local_corners = {}
   for body in model.bodies:
     part_name = part_names[body.name]
     geoms = converter.part_geoms(furniture, part_name, body)
     converter.set_densities(part_name, body, geoms)
     pos, rot = solved.poses[body.name]
-    part = furniture.add_part(part_name, pos, rot, [g for g, _, _, _ in geoms])
-    local_corners[part_name] = np.concatenate([c for g, base, _, c in geoms if base is not None])
+    part = furniture.add_part(part_name, pos, rot, [g for g, _, _ in geoms])
     for c in solved.connectors:
       if c.body == body.name:
         part.connectors.append(bp.Connector(site_names[c.site], c.pos, c.rot, c.type, c.mates,
@@ -296,7 +303,9 @@ def convert(source: str | pathlib.Path, out_dir: str | pathlib.Path, material: s
       [named(a, b) for a, b in solved.pairs if frozenset((a, b)) not in tree])
   pairs = [(site_names[a], site_names[b]) for a, b in solved.pairs
            if (site_names[a], site_names[b]) not in dropped]
-  corners = np.concatenate([local_corners[p.name] @ p.rot.T + p.pos for p in furniture.parts])
+  trim_notes = trim.trim(furniture)
+  corners = np.concatenate([_collision_corners(furniture, p) @ p.rot.T + p.pos
+                            for p in furniture.parts])
   shift = -np.array([*(corners[:, :2].max(0) + corners[:, :2].min(0)) / 2, corners[:, 2].min()])
   for part in furniture.parts:
     part.pos = part.pos + shift
@@ -304,4 +313,4 @@ def convert(source: str | pathlib.Path, out_dir: str | pathlib.Path, material: s
     furniture.metadata[f"initpos.{part_names[body]}"] = _fmt(np.concatenate([pos, quat]))
   path = mjcf_writer.write(furniture, out_dir)
   return Converted(pathlib.Path(source), path, name, len(furniture.parts), 2 * len(pairs), pairs,
-                   converter.notes + solved.notes + seat_notes)
+                   converter.notes + solved.notes + seat_notes + trim_notes)
