@@ -85,6 +85,8 @@ class GripperParts:
   closed_qpos: np.ndarray
   tcp_site: object
   root_body: object
+  # Colliding geoms of the finger pads (physics_settings.configure_pads).
+  pad_geoms: list = dataclasses.field(default_factory=list)
   # Position target of a closed command: past the closed limit by force / kp, so a
   # finger squeezes with its full force limit whatever the part's thickness (as a
   # real gripper's force-controlled grasp does), not kp times the travel left.
@@ -102,11 +104,13 @@ def build(hand_body, spec, prefix):
   root = facts["bodies"][0]
   elements = robot_facts.add_tree(hand_body, facts, name_prefix=prefix, pos=[0, 0, 0],
                                   quat=spec.mount_quat or root.get("quat", [1, 0, 0, 0]))
+  pad_geoms = []
   for body_name in spec.pad_bodies:
     for geom in elements[body_name].find_all("geom", immediate_children_only=True):
       if geom.contype:
         geom.friction = (grip.friction, _PAD_TORSION, _PAD_ROLLING)
         geom.condim = _PAD_CONDIM
+        pad_geoms.append(geom)
   mjcf_root = hand_body.root
   limits = {a["joint"]: a for a in facts["actuators"]}
   force = grip.force   # each finger pushes with at most the published grasp force
@@ -125,7 +129,8 @@ def build(hand_body, spec, prefix):
   return GripperParts(joints=joints, actuators=actuators, open_qpos=values[:, 0],
                       closed_qpos=values[:, 1],
                       tcp_site=mjcf_root.find("site", prefix + spec.tcp_site),
-                      root_body=elements[root["name"]], squeeze_qpos=np.array(squeeze))
+                      root_body=elements[root["name"]], squeeze_qpos=np.array(squeeze),
+                      pad_geoms=pad_geoms)
 
 
 def command(open_qpos, closed_qpos, action):

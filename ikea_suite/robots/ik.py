@@ -20,13 +20,20 @@ _DAMPING = 1e-3
 class DifferentialIK:
   """One mink QP over all of a robot's joints, with a frame task per arm."""
 
-  def __init__(self, mjcf_model, tcp_sites, arm_joints, velocity_limit, solver="daqp"):
-    """`tcp_sites`: one site element per arm; `arm_joints`: joint elements velocity-limited."""
+  def __init__(self, mjcf_model, tcp_sites, arm_joints, velocity_limit, solver="daqp",
+               working_ranges=None):
+    """`tcp_sites`: one site element per arm; `arm_joints`: joint elements velocity-limited;
+    `working_ranges`: {joint element: (low, high)} the IK keeps those joints in, within
+    their physical limits (see Manipulator.IK_WORKING_RANGES)."""
     self._physics = mjcf.Physics.from_mjcf_model(mjcf_model)
     model = self._physics.model.ptr   # the raw mujoco.MjModel, as mink wants
     self.model = model
     self.joints = [j for j in mjcf_model.find_all("joint") if j.tag == "joint"]
     self.qpos_index = np.array(self._physics.bind(self.joints).qposadr)
+    for joint, (low, high) in (working_ranges or {}).items():
+      index = int(self._physics.bind(joint).element_id)
+      physical = model.jnt_range[index].copy()
+      model.jnt_range[index] = [max(low, physical[0]), min(high, physical[1])]
     self._configuration = mink.Configuration(model)
     site_ids = self._physics.bind(tcp_sites).element_id
     self._tasks = [mink.FrameTask(model.site(int(s)).name, "site", position_cost=1.0,

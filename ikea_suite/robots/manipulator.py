@@ -15,6 +15,7 @@ import numpy as np
 from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite import options
+from ikea_suite import physics_settings
 from ikea_suite.robots import base
 from ikea_suite.robots import control_modes
 from ikea_suite.robots import grippers
@@ -67,6 +68,13 @@ class Manipulator(base.Robot):
   WORK_SCALE = 0.5
   KP_PER_NM = 10.0               # position gain per N m of torque limit
   VELOCITY_LIMIT = 2.0           # rad/s per joint in the IK
+  # {arm joint index: (low, high) rad}: ranges the task-space IK keeps joints in, narrower
+  # than their physical limits, so that the redundant arm stays on one branch (shoulder
+  # forward, elbow up). Differential IK follows the tool wherever it goes, and over a
+  # few carries it can wind into a flipped branch with the base joint at its limit,
+  # from which most of the work area is out of reach though it was reachable from home.
+  # Joint modes keep the physical limits.
+  IK_WORKING_RANGES = {}
 
   def _build(self, name=None, control_mode="task_space", max_translation=0.025,
              max_rotation=0.15, base_pos=None, base_yaw=0.0, wrist_camera=False,
@@ -87,7 +95,9 @@ class Manipulator(base.Robot):
       self._add_arm_actuators(arm)
     tcp_sites = [arm.gripper.tcp_site for arm in self._arms]
     arm_joints = [j for arm in self._arms for j in arm.joints]
-    self._ik = ik.DifferentialIK(self._mjcf_root, tcp_sites, arm_joints, self.VELOCITY_LIMIT)
+    working = {arm.joints[j]: r for arm in self._arms for j, r in self.IK_WORKING_RANGES.items()}
+    self._ik = ik.DifferentialIK(self._mjcf_root, tcp_sites, arm_joints, self.VELOCITY_LIMIT,
+                                 working_ranges=working)
     self._home_q = self._home_configuration()
     self._ik.set_posture(self._home_q)
     self._home_rot = [rot for _, rot in self._ik.tcp_poses(self._home_q)]
@@ -238,6 +248,13 @@ class Manipulator(base.Robot):
     limited = np.array([bind(a.joints).limited for a in self._arms]).astype(bool)
     self._joint_low = np.where(limited, ranges[..., 0], -np.pi)
     self._joint_high = np.where(limited, ranges[..., 1], np.pi)
+    self._ik_low, self._ik_high = self._joint_low.copy(), self._joint_high.copy()
+    for j, (low, high) in self.IK_WORKING_RANGES.items():
+      self._ik_low[:, j] = np.maximum(self._ik_low[:, j], low)
+      self._ik_high[:, j] = np.minimum(self._ik_high[:, j], high)
+    pads = [g for a in self._arms for g in a.gripper.pad_geoms]
+    if pads:   # after the task's configure_contacts: composer calls the task's hook first
+      physics_settings.configure_pads(physics.model, bind(pads).element_id)
 
   def home_tcp_poses(self):
     """World poses of every tool-centre point at the home configuration."""
@@ -323,7 +340,7 @@ class Manipulator(base.Robot):
 
     Returns:
       (miss: position error in m plus 0.2 m per rad of orientation error, per-joint
-      margin to the joint limits in rad, joint travel in rad).
+      margin to the limits the IK keeps in (IK_WORKING_RANGES) in rad, joint travel in rad).
     """
     q = physics.data.qpos[self._ik_to_qpos].copy()
     targets = list(self._ik.tcp_poses(q))
@@ -331,7 +348,7 @@ class Manipulator(base.Robot):
     targets[arm] = (to_base @ (goal_pos - self._base_pos), to_base @ goal_rot)
     solution = self._ik.solve(q, targets, iterations=iterations)
     arm_q = solution[self._ik.qpos_index[self._arm_ik[arm]]]
-    margin = np.minimum(arm_q - self._joint_low[arm], self._joint_high[arm] - arm_q)
+    margin = np.minimum(arm_q - self._ik_low[arm], self._ik_high[arm] - arm_q)
     pos, rot = self._ik.tcp_poses(solution)[arm]
     miss = (np.linalg.norm(pos - targets[arm][0])
             + 0.2 * np.linalg.norm(geometry.mat_to_axis_angle(rot @ targets[arm][1].T)))
