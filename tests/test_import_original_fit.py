@@ -1,0 +1,73 @@
+"""Importing the original's models: fitting the parts together (trimmed collision data)
+and the assembly sequence of what comes out, on models the project writes."""
+
+import mujoco
+import numpy as np
+import pytest
+
+from ikea_suite.assembly import sequence
+from ikea_suite.design import decompose
+from ikea_suite.design import validate
+from ikea_suite.design.original import convert
+from ikea_suite.props import model_format
+from ikea_suite.tasks import planner
+from tests import original_models
+
+
+@pytest.fixture(autouse=True)
+def coacd_cache(tmp_path, monkeypatch):
+  monkeypatch.setenv(decompose.CACHE_ENV, str(tmp_path / "coacd"))
+
+
+def _masses(path):
+  model = mujoco.MjModel.from_xml_path(str(path))
+  return {model.body(i).name: model.body_mass[i] for i in range(1, model.nbody)}
+
+
+def test_a_slide_that_would_push_into_a_third_part_is_not_made(tmp_path):
+  result = convert.convert(original_models.post_over_shim(tmp_path), tmp_path / "out")
+  assert not [n for n in result.notes if " slid " in n]
+  poses = {p.name: p.pos for p in model_format.load_spec(str(result.path)).parts}
+  gap = (poses["post"][2] - 0.1) - (poses["shim"][2] + 0.001)
+  np.testing.assert_allclose(gap, 0.001, atol=1e-6)   # still 1 mm over the shim
+
+
+def test_collision_boxes_that_overlap_in_the_files_own_data_are_trimmed_keeping_the_mass(tmp_path):
+  result = convert.convert(original_models.box_with_wide_front(tmp_path, 0.005), tmp_path / "out")
+  trims = [n for n in result.notes if "trimmed" in n]
+  assert trims == [f"collision box 'front_geom0' of part 'front' trimmed 6.5 mm where the file's "
+                   f"own collision shapes overlap part '{wall}' by 5.0 mm in the assembled pose "
+                   "(1.5 mm of air left); the part keeps its mass" for wall in ("wall0", "wall1")]
+  model = mujoco.MjModel.from_xml_path(str(result.path))
+  np.testing.assert_allclose(model.geom("front_geom0").size, [0.1985, 0.01, 0.05], atol=1e-9)
+  np.testing.assert_allclose(model.geom("front_geom0").pos, 0.0, atol=1e-9)   # both ends alike
+  assert _masses(result.path)["front"] == pytest.approx(0.41 * 0.02 * 0.1 * 500)   # as written
+  report = validate.check(result.path)
+  assert report.ok, report.problems
+
+
+def test_an_overlap_deeper_than_a_trim_may_take_is_left_with_the_reason(tmp_path):
+  result = convert.convert(original_models.box_with_wide_front(tmp_path, 0.02), tmp_path / "out")
+  assert not [n for n in result.notes if " trimmed " in n]
+  assert ("parts 'wall0' and 'front' overlap by 20.0 mm in the assembled pose ('wall0_geom0', "
+          "'front_geom0'); not trimmed: deeper than the 15 mm a trim may take") in result.notes
+  assert _masses(result.path)["front"] == pytest.approx(0.44 * 0.02 * 0.1 * 500)
+  report = validate.check(result.path)
+  assert any(p.startswith("overlap: wall") for p in report.problems), report.problems
+
+
+def test_parts_in_a_corner_leave_it_along_the_diagonal_between_its_walls(tmp_path):
+  # Each board touches the side and the back; along any axis it would slide on one of
+  # them, so only the diagonal between the two walls is a free path.
+  result = convert.convert(original_models.corner_shelf(tmp_path), tmp_path / "out")
+  report = validate.check(result.path)
+  assert report.ok, report.problems
+  spec = model_format.load_spec(str(result.path))
+  root = planner.root_part(spec)
+  assert spec.parts[root].name == "side"
+  steps = sequence.plan(str(result.path), root, sequence.HOLD_LIFT)
+  names = [spec.parts[s.part].name for s in steps]
+  assert sorted(names) == ["back", "shelf0", "shelf1"] and names[-1] == "back"
+  entry = np.asarray(steps[-1].waypoints[0])   # the back goes in last, along +x+y
+  assert entry[0] > 0.05 and entry[2] == 0.0
+  np.testing.assert_allclose(entry[0], entry[1], atol=1e-9)
