@@ -71,3 +71,31 @@ def test_parts_in_a_corner_leave_it_along_the_diagonal_between_its_walls(tmp_pat
   entry = np.asarray(steps[-1].waypoints[0])   # the back goes in last, along +x+y
   assert entry[0] > 0.05 and entry[2] == 0.0
   np.testing.assert_allclose(entry[0], entry[1], atol=1e-9)
+
+
+def _board_and_plug(directory, site_y):
+  """A board with a tab on its +x side, and a plug standing against that side clear of
+  the tab; the plug's site sits `site_y` along it, where the board's site is not."""
+  board = """
+    <body name="board" pos="0 0 0.01">
+      <geom name="noviz_collision_board_0" type="box" size="0.1 0.1 0.01" density="500"/>
+      <geom name="noviz_collision_board_1" type="box" pos="0.115 0.09 0" size="0.015 0.01 0.01" density="500"/>
+      <site name="board-plug,0,conn_site1" pos="0.1 -0.03 0" quat="0.7071068 0 0.7071068 0" size="0.01"/>
+    </body>"""
+  plug = original_models._box_body("plug", "0.11 -0.03 0.05", "0.01 0.07 0.05", [
+      ("plug-board,0,conn_site1", f"-0.01 {site_y} -0.04", "0.7071068 0 0.7071068 0")])
+  return original_models._write(directory, "board_plug", [board, plug])
+
+
+def test_an_overlap_made_by_pairing_connectors_against_the_files_geometry_is_not_trimmed(tmp_path):
+  # Where the file has it the plug touches the board; its site sits 48 mm along it from
+  # the board's, so mated by name it slides 48 mm into the tab: a trim would hide that.
+  result = convert.convert(_board_and_plug(tmp_path, -0.048), tmp_path / "out")
+  assert not [n for n in result.notes if " trimmed " in n]
+  assert ("parts 'board' and 'plug' overlap by 8.0 mm in the assembled pose ('board_geom1', "
+          "'plug_geom0'); not trimmed: in the file's own poses they fit together 0.0 mm apart, "
+          "48 mm and 0 deg from where their connectors put them, so a connector pairs them in a "
+          "way the file's geometry does not support (sites named for the wrong end?)") \
+      in result.notes
+  report = validate.check(result.path)
+  assert any(p.startswith("overlap: ") for p in report.problems), report.problems
