@@ -375,3 +375,22 @@ def box_with_wide_front(directory, overlap, name="box_front"):
   bodies.append(_box_body("front", "0 -0.14 0.07", f"{0.2 + overlap:.6g} 0.01 0.05", [
       ("front-base,0,conn_site1", "0 0 -0.05", up)]))
   return _write(directory, name, bodies)
+
+
+def corner_shelf(directory, name="corner_shelf"):
+  """A corner shelf: a side wall, a back wall against its face, and two boards each
+  touching both walls, so that every part but the side touches two perpendicular faces."""
+  west, north = "0.7071068 0 -0.7071068 0", "0.7071068 -0.7071068 0 0"   # up -x, up +y
+  bodies = [_box_body("side", "-0.108 0.008 0.25", "0.008 0.108 0.25", [
+      ("side-back,0,180,conn_site0", "0.008 0.092 0", west)] + [
+      (f"side-shelf,0,180,conn_site{k}", f"0.008 -0.008 {z - 0.25:.3f}", west)
+      for k, z in enumerate((0.15, 0.35))])]
+  bodies.append(_box_body("back", "0 0.108 0.25", "0.1 0.008 0.25", [
+      ("back-side,0,180,conn_site0", "-0.1 0 0", west)] + [
+      (f"back-shelf,0,180,conn_site{k}", f"0 -0.008 {z - 0.25:.3f}", north)
+      for k, z in enumerate((0.15, 0.35))]))
+  for k, z in enumerate((0.15, 0.35)):
+    bodies.append(_box_body(f"shelf{k}", f"0 0 {z}", "0.1 0.1 0.008", [
+        (f"shelf-side,0,180,conn_site{k}", "-0.1 0 0", west),
+        (f"shelf-back,0,180,conn_site{k}", "0 0.1 0", north)]))
+  return _write(directory, name, bodies)

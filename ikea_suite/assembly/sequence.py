@@ -33,6 +33,12 @@ STEP = 0.015           # sampling step along a path (thinner than any two boards
 MARGIN = 0.03          # extra distance beyond the bounding box
 SHORT_MOVE = (0.03, 0.06, 0.10, 0.15)   # first-leg lengths tried for two-leg paths
 _AXES = np.concatenate([np.eye(3), -np.eye(3)])
+# Between two axes, tried last: a part in a corner touches two perpendicular faces
+# (a corner shelf's boards, a cabinet side against its top and back) and slides along
+# one of them on every axis, but leaves both at once along their diagonal.
+_DIAGONALS = np.array([v / np.sqrt(2) for i in range(3) for j in range(i + 1, 3)
+                       for v in (_AXES[i] + _AXES[j], _AXES[i] - _AXES[j],
+                                 -_AXES[i] + _AXES[j], -_AXES[i] - _AXES[j])])
 _PARKED = 100.0        # parts taken away are parked this far along x
 # The Cursor oracle holds the growing assembly this high (m): parts still lying
 # on the floor pass beneath it. The task's next_pair follows the plan for it.
@@ -103,9 +109,10 @@ class _Scene:
 def _exit_path(scene, part, present):
   """Waypoints (offsets, farthest first) along which `part` leaves the present parts, or None.
 
-  The farthest waypoint is clear of the rest's bounding box across some axis
-  plane, so the part can reach it from anywhere on that plane's far side.
-  Shorter paths win; straight paths beat two-leg ones.
+  The farthest waypoint is clear of the rest's bounding box across some plane
+  (normal to an axis, or to the diagonal between two), so the part can reach it
+  from anywhere on that plane's far side. Shorter paths win; straight paths
+  along an axis beat two-leg ones, which beat straight diagonal ones.
   """
   straight = []
   for d in _AXES:
@@ -127,6 +134,10 @@ def _exit_path(scene, part, present):
     length = scene.clearance(part, present, side, first)
     if scene.path_free(part, first, side, length):
       return (first + length * side, first, np.zeros(3))
+  diagonal = sorted((scene.clearance(part, present, d), k) for k, d in enumerate(_DIAGONALS))
+  for length, k in diagonal:
+    if scene.path_free(part, np.zeros(3), _DIAGONALS[k], length):
+      return (length * _DIAGONALS[k], np.zeros(3))
   return None
 
 

@@ -303,7 +303,7 @@ def convert(source: str | pathlib.Path, out_dir: str | pathlib.Path, material: s
       [named(a, b) for a, b in solved.pairs if frozenset((a, b)) not in tree])
   pairs = [(site_names[a], site_names[b]) for a, b in solved.pairs
            if (site_names[a], site_names[b]) not in dropped]
-  trim_notes = trim.trim(furniture)
+  trim_notes = trim.trim(furniture, {part_names[b.name]: (b.pos, b.rot) for b in model.bodies})
   corners = np.concatenate([_collision_corners(furniture, p) @ p.rot.T + p.pos
                             for p in furniture.parts])
   shift = -np.array([*(corners[:, :2].max(0) + corners[:, :2].min(0)) / 2, corners[:, 2].min()])

@@ -23,6 +23,13 @@ depth and _AIR more:
 - the trimmed geom keeps its mass (its density rises by the volume lost), so
   every part weighs what it did; visual meshes do not change.
 
+An overlap is not trimmed when the file's own poses fit the two parts together
+another way: there they touch (within _FILE_TOUCH) without overlapping, but in
+a pose relative to each other that differs from the one their connectors give
+(by more than seat.SNAP or _SAME_TURN). Then a connector pairs them against the
+file's geometry (chair_ingolf_0650's sides name 'front' the sites at their back
+end, so its back enters the seat by 12 mm), and a trim would hide that.
+
 Overlaps that cannot be trimmed are left, with a note naming the parts and why,
 and validation then reports them.
 """
@@ -30,28 +37,66 @@ and validation then reports them.
 import mujoco
 import numpy as np
 
+from ikea_suite import geometry
 from ikea_suite import physics_settings
 from ikea_suite.assembly import sequence
 from ikea_suite.design import construction
 from ikea_suite.design import mjcf_writer
 from ikea_suite.design import validate
+from ikea_suite.design.original import seat
 
 MAX_TRIM = 0.015    # metres: the most taken off one face (the deepest data overlap seen: 10.8 mm)
 _AIR = sequence.CLEARANCE + 5e-4   # metres left between a trimmed face and its neighbour
 _ALIGN = 0.95       # cosine between contact normal and the trimmed axis (about 18 degrees)
 _ROUNDS = 10        # overlap sweeps; a trim can leave a shallower contact of the same pair
 _GEOM = "_geom"     # mjcf_writer names geom i of part P 'P_geom{i}'
+_FILE_TOUCH = 0.005   # metres: parts this close in the file's poses are fitted together there
+_SAME_TURN = np.radians(5.0)   # parts turned less than this from the file's relative pose
+
+
+def _compile(furniture):
+  files = mjcf_writer.model_files(furniture)
+  xml = files.pop(f"{furniture.name}.xml").decode()
+  model = mujoco.MjModel.from_xml_string(xml, files)
+  physics_settings.configure_model(model)   # the contact settings validation uses
+  return model, mujoco.MjData(model)
+
+
+def _fitted_otherwise(furniture, file_poses, part_a, part_b):
+  """(gap, offset, turn) when the file's own poses fit part_b to part_a another way: there
+  they are at most _FILE_TOUCH apart and not overlapping, in a relative pose `offset`
+  metres and `turn` radians from the assembled one; else None."""
+  if not file_poses or part_a not in file_poses or part_b not in file_poses:
+    return None
+  parts = {p.name: p for p in furniture.parts}
+  (fa, ra), (fb, rb) = file_poses[part_a], file_poses[part_b]
+  a, b = parts[part_a], parts[part_b]
+  rel_rot = ra.T @ rb
+  pos = a.pos + a.rot @ (ra.T @ (fb - fa))   # part_b where the file has it, part_a staying
+  rot = a.rot @ rel_rot
+  offset = float(np.linalg.norm(pos - b.pos))
+  turn = float(np.linalg.norm(geometry.mat_to_axis_angle(rot @ b.rot.T)))
+  if offset <= seat.SNAP and turn <= _SAME_TURN:
+    return None
+  model, data = _compile(furniture)
+  body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, part_b)
+  adr = model.jnt_qposadr[model.body_jntadr[body]]
+  data.qpos[adr:adr + 3], data.qpos[adr + 3:adr + 7] = pos, geometry.mat_to_quat(rot)
+  mujoco.mj_kinematics(model, data)
+  geoms = {n: [g for g in range(model.ngeom) if model.geom_bodyid[g] == model.body(n).id
+               and (model.geom_contype[g] or model.geom_conaffinity[g])] for n in (part_a, part_b)}
+  gap = min(mujoco.mj_geomDistance(model, data, i, j, _FILE_TOUCH * 2, np.zeros(6))
+            for i in geoms[part_a] for j in geoms[part_b])
+  if -validate.PENETRATION_TOL <= gap <= _FILE_TOUCH:
+    return gap, offset, turn
+  return None
 
 
 def _overlaps(furniture):
   """(depth, (part, index), (part, index), normal) of the deepest contact of each pair of
   geoms of different parts overlapping by more than PENETRATION_TOL, deepest first;
   the world normal points from the first geom to the second."""
-  files = mjcf_writer.model_files(furniture)
-  xml = files.pop(f"{furniture.name}.xml").decode()
-  model = mujoco.MjModel.from_xml_string(xml, files)
-  physics_settings.configure_model(model)   # the contact settings validation uses
-  data = mujoco.MjData(model)
+  model, data = _compile(furniture)
   mujoco.mj_forward(model, data)
   deepest = {}
   for c in data.contact[:data.ncon]:
@@ -100,11 +145,13 @@ def _cut(part, geom, k, sign, amount, trimmed):
     trimmed[key] = trimmed.get(key, 0.0) + amount
 
 
-def trim(furniture):
+def trim(furniture, file_poses=None):
   """Clears data overlaps between parts' collision primitives (see the module docstring).
 
   Args:
     furniture: the Blueprint, parts at their seated assembled poses; edited in place.
+    file_poses: part name -> (pos, rot) as the file writes the part, in the same part
+      frame; None skips the check against them.
 
   Returns:
     One note per trim made and per overlap left (naming the parts and why).
@@ -117,6 +164,11 @@ def trim(furniture):
       if frozenset((part_a, part_b)) in refused:
         continue
       if {(part_a, i), (part_b, j)} & cut:   # its contacts are stale: measure again first
+        continue
+      fitted = _fitted_otherwise(furniture, file_poses, part_a, part_b)
+      if fitted is not None:
+        refused[frozenset((part_a, part_b))] = depth
+        notes.append(_misfit(part_a, i, part_b, j, depth, *fitted))
         continue
       options = []
       for name, index, toward in ((part_a, i, normal), (part_b, j, -normal)):
@@ -146,6 +198,15 @@ def trim(furniture):
     if not made:
       break
   return notes
+
+
+def _misfit(part_a, i, part_b, j, depth, gap, offset, turn):
+  return (f"parts {part_a!r} and {part_b!r} overlap by {depth * 1000:.1f} mm in the assembled "
+          f"pose ('{part_a}{_GEOM}{i}', '{part_b}{_GEOM}{j}'); not trimmed: in the file's own "
+          f"poses they fit together {gap * 1000:.1f} mm apart, {offset * 1000:.0f} mm and "
+          f"{np.degrees(turn):.0f} deg from where their connectors put them, so a connector "
+          "pairs them in a way the file's geometry does not support (sites named for the "
+          "wrong end?)")
 
 
 def _refusal(parts, part_a, i, part_b, j, depth):
