@@ -8,6 +8,7 @@ from ikea_suite import experts
 from ikea_suite import geometry
 from ikea_suite.arenas import support as support_lib
 from ikea_suite.arenas import work_table
+from ikea_suite.oracle import arm_controller
 
 ARMS = ("sawyer", "panda", "jaco", "baxter")
 H = work_table.TABLE_HEIGHT
@@ -138,10 +139,15 @@ def test_sawyer_expert_connects_a_part_on_the_table():
   expert = experts.make_expert(env)
   timestep = env.reset()
   expert.reset()
+  carried_at = 0.0
   for _ in range(400):
     timestep = env.step(expert(timestep))
+    if expert.phase == arm_controller.Phase.ALIGN:
+      carried_at = max(carried_at, env.task.robot.tcp_positions(env.physics)[0, 2])
     if env.task.state.connections:
       break
   assert len(env.task.state.connections) >= 1
+  # The carry passes over the assembly at its height above the top, as above the floor.
+  assert carried_at > H + 0.45
   root = env.task.furniture.part_poses(env.physics)[0][env.task.root_part]
   assert root[2] > H   # the assembly is still on the top
