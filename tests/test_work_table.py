@@ -114,7 +114,7 @@ def test_cursor_on_the_work_table_raises():
 
 
 def test_root_wider_than_the_table_raises():
-  # At scale 2 the Lack top is 1.1 m square: wider than the 0.8 m deep table.
+  # At scale 2 the Lack top is 1.1 m square: wider than the 1.0 m deep table.
   with pytest.raises(ikea_suite.OptionValueError, match="does not fit on the work table"):
     ikea_suite.load("table_four_leg_lack", "sawyer", scale=2.0, arena="work_table")
 

@@ -1,15 +1,18 @@
 """A work-table arena: a rigid table in front of the robot, which stands on a pedestal as high.
 
-The table top is 0.75 m high, 0.8 m deep and 1.6 m wide, 30 mm thick, on four
+The table top is 0.75 m high, 1.0 m deep and 1.6 m wide, 30 mm thick, on four
 50 mm square legs: a common desk and lab-bench height (office desks stand
-0.72-0.76 m) and a standard 160 x 80 cm desk top. The robot's base is mounted
+0.72-0.76 m) and a 160 x 100 cm bench top. The robot's base is mounted
 at the height of the top, on a 0.4 m square pedestal that abuts the table's
 back edge, the way a Panda or Jaco is clamped to a bench and a Sawyer's
 pedestal is set to the bench's height. So the arm meets the table top exactly
 as it meets the floor in the floor arena (same reach, same workspace box in its
 base frame), and every part it can reach lies on the top: the top reaches
-from 0.2 m to 1.0 m in front of the base (the arms' part reach is 0.8-0.95 m)
-and 0.8 m to either side.
+from 0.2 m to 1.2 m in front of the base (the arms' part reach is 0.8-0.95 m)
+and 0.8 m to either side. It is deeper than an 80 cm desk because the scripted
+arm sometimes pushes the growing assembly out past its reach: on a top ending
+1.0 m out, such assemblies tipped over the front edge or fell off it in 3 of 6
+Sawyer episodes (development seeds 0-5); 1.2 m out they stay on the top.
 
 Cameras keep the floor arena's views, moved to look at the table top's centre.
 Everything here is static world geometry (no bodies), like the floor.
@@ -22,7 +25,7 @@ from ikea_suite.arenas import floor
 from ikea_suite.arenas import support as support_lib
 
 TABLE_HEIGHT = 0.75              # m, floor to the top surface
-TABLE_SIZE = (0.8, 1.6)          # m, depth (along the robot's heading) x width
+TABLE_SIZE = (1.0, 1.6)          # m, depth (along the robot's heading) x width
 TOP_THICKNESS = 0.03             # m
 LEG_WIDTH = 0.05                 # m, square legs
 LEG_INSET = 0.05                 # m from the top's edges to the legs' centres
