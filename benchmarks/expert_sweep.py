@@ -2,6 +2,7 @@
 
     python benchmarks/expert_sweep.py --robots sawyer panda --seed-start 1000 --seeds 10
     python benchmarks/expert_sweep.py --robots jaco --models table_four_leg_lack --processes 2
+    python benchmarks/expert_sweep.py --robots sawyer --models table_four_leg_lack --arena work_table
 
 For each robot, one row per model: the scale it runs at (the robot's
 WORK_SCALE unless --scale), parts, complete assemblies / seeds, mean
@@ -21,13 +22,16 @@ import numpy as np
 
 
 def run_episode(job):
-  """(robot, furniture, scale, seed, time limit or None) -> dict summary of one expert episode."""
-  robot, furniture, scale, seed, time_limit = job
+  """(robot, furniture, scale, seed, time limit or None, arena) -> dict summary of one expert
+  episode."""
+  robot, furniture, scale, seed, time_limit, arena = job
   import ikea_suite
   from ikea_suite import experts
   from ikea_suite.experts import bimanual
   start = time.perf_counter()
-  options = {} if time_limit is None else {"time_limit": time_limit}
+  options = {"arena": arena}
+  if time_limit is not None:
+    options["time_limit"] = time_limit
   env = ikea_suite.load(furniture, robot, seed=seed, scale=scale, **options)
   expert = experts.make_expert(env)
   timestep = env.reset()
@@ -84,6 +88,7 @@ def main(argv=None):
   parser.add_argument("--processes", type=int, default=2)
   parser.add_argument("--time-limit", type=float, default=None,
                       help="simulated seconds per episode (default: the task's, 30 + 25 per part)")
+  parser.add_argument("--arena", default="floor", help="load(arena=...): floor or work_table")
   parser.add_argument("--json", default=None, help="also write every episode's summary here")
   args = parser.parse_args(argv)
   from ikea_suite.robots import registry
@@ -91,7 +96,7 @@ def main(argv=None):
   jobs = []
   for robot in args.robots:
     scale = args.scale or registry.get(robot).factory.WORK_SCALE
-    jobs += [(robot, m, scale, s, args.time_limit) for m in models
+    jobs += [(robot, m, scale, s, args.time_limit, args.arena) for m in models
              for s in range(args.seed_start, args.seed_start + args.seeds)]
   start = time.perf_counter()
   rows = []
@@ -103,7 +108,7 @@ def main(argv=None):
   rows.sort(key=lambda r: order[(r["robot"], r["furniture"], r["scale"], r["seed"])])
   limit = "task default" if args.time_limit is None else f"{args.time_limit:g} s"
   print(f"{len(jobs)} episodes, seeds {args.seed_start}..{args.seed_start + args.seeds - 1}, "
-        f"time limit {limit}, {args.processes} processes, {time.perf_counter() - start:.0f} s, "
+        f"time limit {limit}, arena {args.arena}, {args.processes} processes, {time.perf_counter() - start:.0f} s, "
         f"load {os.getloadavg()[0]:.1f}")
   for robot in args.robots:
     print_table(robot, [r for r in rows if r["robot"] == robot])

@@ -9,6 +9,7 @@ from ikea_suite import errors
 from ikea_suite import options as ranges
 from ikea_suite import physics_settings
 from ikea_suite.arenas import presets
+from ikea_suite.arenas import work_table
 from ikea_suite.props import catalog
 from ikea_suite.props import furniture as furniture_lib
 from ikea_suite.props import scaling
@@ -32,7 +33,7 @@ ENVIRONMENT_OPTIONS = ("time_limit",)
 # Furniture size factor (props/scaling.py): lengths x scale, masses x scale^3, inertias x scale^5.
 FURNITURE_OPTIONS = ("scale",)
 # Scene preset, placement, randomization and cameras: see the README, "Observations, scenes and domain randomization".
-SCENE_OPTIONS = (("scene",) + placement.OPTIONS + randomization.OPTIONS
+SCENE_OPTIONS = (("scene", "arena") + placement.OPTIONS + randomization.OPTIONS
                  + camera_observables.OPTIONS)
 # Default episode length in simulated seconds: a start-up allowance plus a
 # fixed budget per part (500 control steps at 20 Hz), so larger furniture gets
@@ -60,6 +61,8 @@ def load(furniture: str | os.PathLike = DEFAULT_FURNITURE, robot: str = DEFAULT_
   that much smaller or larger from the same materials, lengths x scale, masses
   x scale^3, inertias x scale^5, connectors with the parts; the default
   distance_threshold scales with it (a given distance_threshold is in metres).
+  Arena: arena ("floor", or "work_table" for arms: a 0.75 m table in front of the robot,
+  which stands on a pedestal as high; base_pos's z is then measured from the table top).
   Scene: scene (preset name), spread, preassembled, yaw_range, randomize;
   images: cameras, camera_outputs, image_size, goal_image (README: "Observations, scenes and domain randomization").
   Unknown names raise UnknownNameError listing the valid ones.
@@ -94,14 +97,18 @@ def load(furniture: str | os.PathLike = DEFAULT_FURNITURE, robot: str = DEFAULT_
   def picked(names):
     return {k: options[k] for k in names if k in options}
   furniture_prop = furniture_lib.Furniture(path, scale=scale)
-  robot_entity = robot_entry.factory(**{k: options[k] for k in robot_keys if k in options})
+  robot_options = picked(robot_keys)
+  arena_kind = _arena_kind(options, robot_entry, robot_options)
+  robot_entity = robot_entry.factory(**robot_options)
+  arena = presets.make_arena(options.get("scene", "default"), arena_kind,
+                             base_pose=getattr(robot_entity, "base_pose", None))
   if robot_entity.reach_zone is not None:   # an arm: the same options, within its reach
     initializer = arm_placement.reachable_parts(furniture_prop, robot_entity.reach_zone,
-                                                **picked(placement.OPTIONS))
+                                                support=arena.support, **picked(placement.OPTIONS))
   else:
     initializer = placement.scattered_parts(furniture_prop, **picked(placement.OPTIONS))
   task = assembly.Assembly(
-      arena=presets.make_arena(options.get("scene", "default")),
+      arena=arena,
       furniture=furniture_prop,
       initializer=initializer,
       robot=robot_entity,
@@ -111,6 +118,21 @@ def load(furniture: str | os.PathLike = DEFAULT_FURNITURE, robot: str = DEFAULT_
   camera_observables.attach(task, **picked(camera_observables.OPTIONS))
   time_limit = options.get("time_limit", default_time_limit(len(furniture_prop.parts)))
   return environment.Environment(task, time_limit=time_limit, random_state=seed)
+
+
+def _arena_kind(options, robot_entry, robot_options):
+  """The `arena` option, checked; on the work table the arm's base_pos is raised onto its
+  pedestal (in `robot_options`), so the arm meets the table top as it meets the floor."""
+  kind = ranges.choice("arena", options.get("arena", "floor"), presets.ARENAS)
+  if kind == "work_table":
+    if "arm" not in robot_entry.tags:
+      raise errors.OptionValueError(
+          f"arena='work_table' is for the fixed-base arms ({', '.join(registry.names('arm'))}); "
+          f"the {robot_entry.name} scatters full-size furniture metres out, so use arena='floor'")
+    base = ranges.vector("base_pos", robot_options.get("base_pos", robot_entry.factory.BASE_POS),
+                         (3,))
+    robot_options["base_pos"] = base + [0.0, 0.0, work_table.TABLE_HEIGHT]
+  return kind
 
 
 def _check_options(options):

@@ -2,6 +2,8 @@
 
 from dm_control import composer
 
+from ikea_suite.arenas import support as support_lib
+
 CAMERAS = {
     # name: (position, point looked at)
     "front": ((0.0, -2.2, 1.5), (0.0, 0.0, 0.35)),
@@ -45,6 +47,21 @@ class FloorArena(composer.Arena):
   @property
   def floor(self):
     return self._floor
+
+  @property
+  def support(self):
+    """Where parts lie at the start of an episode: the unbounded floor at z = 0."""
+    return support_lib.FLOOR
+
+  @property
+  def mount_height(self):
+    """Height (m) the robot's base is raised by: none, it stands on the floor."""
+    return 0.0
+
+  @property
+  def support_geoms(self):
+    """Geoms parts rest on (their friction is randomized with the parts')."""
+    return [self._floor]
 
   @property
   def cameras(self):

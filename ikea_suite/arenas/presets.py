@@ -7,8 +7,15 @@ variation on top of a preset is the job of `tasks.randomization`.
 
 import dataclasses
 
+import numpy as np
+
 from ikea_suite import errors
+from ikea_suite import options
 from ikea_suite.arenas import floor
+from ikea_suite.arenas import work_table
+
+# load(arena=...): the open floor, or a work table in front of an arm (arenas/work_table.py).
+ARENAS = ("floor", "work_table")
 
 WALL_DISTANCE = 4.0   # metres from the origin, at the floor's edge
 WALL_HEIGHT = 3.0
@@ -100,11 +107,26 @@ def names():
   return sorted(PRESETS)
 
 
-def make_arena(scene="default"):
-  """A FloorArena dressed as preset `scene`."""
+def make_arena(scene="default", arena="floor", base_pose=None):
+  """A FloorArena, or a WorkTableArena in front of `base_pose`, dressed as preset `scene`.
+
+  Args:
+    scene: a preset name (names()).
+    arena: one of ARENAS.
+    base_pose: (position (3,), rotation (3, 3)) of the robot base, which the work table
+      stands in front of; needed for arena="work_table" only.
+  Raises:
+    UnknownNameError: an unknown scene.
+    OptionValueError: an arena not in ARENAS.
+  """
   if scene not in PRESETS:
     raise errors.UnknownNameError("scene", scene, PRESETS)
-  arena = floor.FloorArena()
+  options.choice("arena", arena, ARENAS)
+  if arena == "work_table":
+    pos, rot = base_pose
+    arena = work_table.WorkTableArena(base_xy=pos[:2], base_yaw=np.arctan2(rot[1, 0], rot[0, 0]))
+  else:
+    arena = floor.FloorArena()
   if PRESETS[scene] is not None:
     apply(arena, PRESETS[scene])
   return arena

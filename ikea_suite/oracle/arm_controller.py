@@ -50,6 +50,8 @@ class ArmAssemblyController:
     self._pad_below = None   # measured at the first grasp, with the arm at home
     self._finger_bodies = None
     self._servo = arm_motion.PoseServo()
+    # Carry and clearance heights count from the surface the parts lie on (floor or table top).
+    self._surface = env.task.arena.support.height
     self.reset()
 
   def reset(self):
@@ -317,7 +319,7 @@ class ArmAssemblyController:
       offset = self._approach if phase == Phase.ALIGN else 0.004
       goal = self._tool_goal_for_part(moving, part_pos + offset * side, part_rot)
       if self._carrying:   # first over the goal at carry height, then down to it
-        high = goal[0] + [0.0, 0.0, max(0.0, self._carry - goal[0][2])]
+        high = goal[0] + [0.0, 0.0, max(0.0, self._surface + self._carry - goal[0][2])]
         # Turning slowly keeps a held part from swinging out of the fingers.
         poses[:] = self._servo(robot, physics, arm, self._arc_waypoint(high), goal[1],
                                           max_turn=0.3)
@@ -361,7 +363,7 @@ class ArmAssemblyController:
     task, physics = self._env.task, self._env.physics
     positions, rotations = task.furniture.part_poses(physics)
     groups = task.state.group_labels()
-    top = 0.0
+    top = self._surface
     for part in np.flatnonzero(groups == groups[task.root_part]):
       corners = (geometry.box_corners(*task.furniture.spec.parts[part].bounds)
                  @ rotations[part].T + positions[part])

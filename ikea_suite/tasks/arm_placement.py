@@ -1,4 +1,4 @@
-"""Part placement for fixed-base arms: the parts lie flat on the floor within the arm's reach.
+"""Part placement for fixed-base arms: the parts lie flat on the floor or table within reach.
 
 The root part (the one everything is built onto) lies in front of the
 robot, turned over when its mates attach from below (a table top is
@@ -13,6 +13,10 @@ groups already joined (each keeps its assembled shape, upright), and
 `spread` is the width of the band the parts are drawn from, which must fit
 within the arm's reach (OptionValueError otherwise). The robot states its
 reach (`reach_zone`); this module is the task's, so robots import no task code.
+
+The arena states the surface the parts lie on (`arena.support`: the floor,
+or a work table's top with its extent). On a table every part lies wholly on
+the top; furniture too large for it raises EpisodeInitializationError.
 """
 
 import numpy as np
@@ -20,6 +24,7 @@ from dm_control import composer
 
 from ikea_suite import errors
 from ikea_suite import geometry
+from ikea_suite.arenas import support as support_lib
 from ikea_suite.tasks import placement
 from ikea_suite.tasks import planner
 
@@ -48,15 +53,17 @@ class ReachableParts(placement.PartInitializer):
     spread: width of the band (m) parts are drawn from; None: from min_distance to reach.
     yaw_range: largest |yaw| (rad) of a part about its resting pose.
     preassembled: connections made before the episode (int or (low, high)).
+    support: the arenas.support.Support the parts lie on (default: the floor).
   Raises:
-    OptionValueError: spread wider than the reach allows.
+    OptionValueError: spread wider than the reach allows, or a root part wider than the support.
   """
 
   def __init__(self, furniture, base_xy, base_rot, reach, inner=0.2, min_distance=0.55,
                root_distance=0.45, gap=0.03,
                root_jitter=(0.03, np.radians(15)), sector=np.radians(110), max_attempts=200,
-               spread=None, yaw_range=np.pi, preassembled=0):
+               spread=None, yaw_range=np.pi, preassembled=0, support=support_lib.FLOOR):
     self._furniture = furniture
+    self._support = support
     self._base_xy = np.asarray(base_xy, dtype=float)
     self._heading = np.arctan2(base_rot[1, 0], base_rot[0, 0])
     # inner: clearance around the base; min_distance: nearest a part centre may lie
@@ -80,6 +87,14 @@ class ReachableParts(placement.PartInitializer):
     self._root = planner.root_part(spec)
     rest = placement.resting_rotation(spec.parts[self._root].bounds)
     self._root_rest = _FLIP @ rest if mates_from_below(spec, furniture.connectors, self._root) else rest
+    # Any yaw of the lying root fits within the disc of its half-diagonal.
+    root_radius = np.linalg.norm(np.ptp(
+        geometry.box_corners(*spec.parts[self._root].bounds) @ self._root_rest.T, axis=0)[:2]) / 2
+    if support.bounded and not (np.asarray(support.half_size) > root_radius).all():
+      raise errors.OptionValueError(
+          f"{furniture.name}'s root part {spec.parts[self._root].name!r} ({2 * root_radius:.2f} m "
+          f"across) does not fit on the work table ({2 * min(support.half_size):.2f} m); "
+          f"use a smaller scale")
 
   @property
   def root_part(self):
@@ -101,7 +116,7 @@ class ReachableParts(placement.PartInitializer):
 
   def _place(self, physics, item, yaw_rot, xy):
     corners, centre, _ = self._item_footprint(item, yaw_rot)
-    shift = np.array([*(xy - centre), -corners[:, 2].min() + 1e-3])
+    shift = np.array([*(xy - centre), self._support.height - corners[:, 2].min() + 1e-3])
     for index, rot, pos in item:
       part = self._furniture.parts[index]
       part.set_pose(physics, position=yaw_rot @ pos + shift,
@@ -119,6 +134,12 @@ class ReachableParts(placement.PartInitializer):
     forward = np.array([np.cos(self._heading), np.sin(self._heading)])
     distance = max(self._inner + radius, self._root_distance)
     xy = self._base_xy + forward * distance + random_state.uniform(-offset, offset, 2)
+    while not self._support.contains(xy, radius):   # a wide root: out along the table
+      distance += 0.02
+      xy = self._base_xy + forward * distance
+      if distance > self._support.farthest_from(self._base_xy):
+        raise composer.EpisodeInitializationError(
+            f"the root part (radius {radius:.2f} m) does not fit on the work table")
     self._place(physics, root_item, yaw_rot, xy)
     placed = [(xy, radius)]
     for item in items:
@@ -138,14 +159,18 @@ class ReachableParts(placement.PartInitializer):
         distance = random_state.uniform(nearest, outer)
         angle = self._heading + random_state.uniform(-self._sector, self._sector)
         xy = self._base_xy + distance * np.array([np.cos(angle), np.sin(angle)])
-        if all(np.linalg.norm(xy - other) > radius + other_r + self._gap for other, other_r in placed):
+        if (all(np.linalg.norm(xy - other) > radius + other_r + self._gap
+                for other, other_r in placed) and self._support.contains(xy, radius)):
           return xy
       outer += 0.25   # out of room within reach: spill outwards rather than fail
-      if outer > 10.0:
-        raise composer.EpisodeInitializationError(f"no room for a part of radius {radius:.2f} m")
+      if outer > min(10.0, self._support.farthest_from(self._base_xy) + 0.25):
+        where = " on the work table" if self._support.bounded else ""
+        raise composer.EpisodeInitializationError(
+            f"no room{where} for a part of radius {radius:.2f} m; use a smaller scale")
 
 
-def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preassembled=0):
+def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preassembled=0,
+                    support=support_lib.FLOOR):
   """ReachableParts from load()'s placement options for an arm's `reach_zone`.
 
   Args:
@@ -154,6 +179,7 @@ def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preasse
     spread: width (m) of the band parts lie in; None: all the reach allows.
     yaw_range: largest |yaw| (rad) of a part.
     preassembled: connections made before the episode (int or (low, high)).
+    support: the arenas.support.Support parts lie on (the arena's `support`).
   Returns:
     A ReachableParts initializer.
   Raises:
@@ -166,4 +192,4 @@ def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preasse
       raise errors.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
   base_xy, base_rot, reach = reach_zone
   return ReachableParts(furniture, base_xy, base_rot, reach, spread=spread,
-                        yaw_range=float(yaw_range), preassembled=preassembled)
+                        yaw_range=float(yaw_range), preassembled=preassembled, support=support)

@@ -67,7 +67,8 @@ class Assembly(composer.Task):
     robot.bind_scene(arena, furniture, self._state, self.control_timestep)
     if initializer is None:   # a fixed-base arm keeps parts within its reach
       initializer = (placement.ScatteredParts(furniture) if robot.reach_zone is None
-                     else arm_placement.reachable_parts(furniture, robot.reach_zone))
+                     else arm_placement.reachable_parts(furniture, robot.reach_zone,
+                                                        support=arena.support))
     if not isinstance(initializer, placement.PartInitializer):
       raise errors.IkeaSuiteError(
           f"initializer must be a placement.PartInitializer (it names the pairs it placed "
@@ -305,7 +306,11 @@ class Assembly(composer.Task):
       return ""
     k = int(np.argmax(np.where(hits, -contacts.dist[deep], -np.inf)))
     other = owner[1, k] if moving_set[0, k] else owner[0, k]
-    what = "the floor" if other == -2 else f"part {self._furniture.spec.parts[other].name!r}"
+    if other == -2:   # a static geom: the floor, or the work table's top, legs or pedestal
+      static = contacts.geom2[deep][k] if moving_set[0, k] else contacts.geom1[deep][k]
+      what = "the " + (physics.model.geom(static).name.split("/")[-1].replace("_", " ") or "floor")
+    else:
+      what = f"part {self._furniture.spec.parts[other].name!r}"
     return (f"snapping would push it {-contacts.dist[deep][k] * 1000:.0f} mm into {what} "
             f"(limit {SNAP_PENETRATION_TOL * 1000:.0f} mm)")
 

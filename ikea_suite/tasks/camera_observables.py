@@ -173,9 +173,10 @@ class CameraRig(composer.Entity):
     what = mujoco.mjtState.mjSTATE_INTEGRATION
     saved = np.empty(mujoco.mj_stateSize(model, what))
     mujoco.mj_getState(model, data, saved, what)
+    origin = self._arena.support.origin   # on the floor, or on a work table's top
     for part in self._furniture.parts:
       spec = part.spec
-      part.set_pose(physics, position=spec.pos, quaternion=geometry.mat_to_quat(spec.rot))
+      part.set_pose(physics, position=origin + spec.pos, quaternion=geometry.mat_to_quat(spec.rot))
     physics.forward()
     frames = {name: self.renderer(physics, name).render_kinds(self._kinds)
               for name in self._elements}

@@ -183,7 +183,7 @@ class SceneRandomizer(composer.Entity):
   def _bind_variations(self):
     f, bind = self._factors, self._variator.bind_attributes
     if "friction" in f:
-      for geom in self._part_geoms() + [self._arena.floor]:
+      for geom in self._part_geoms() + list(self._arena.support_geoms):   # floor, table top
         bind(geom, friction=noises.Multiplicative(_one(*f["friction"])))
     if "part_damping" in f:
       for frame in self._furniture.part_frames:
