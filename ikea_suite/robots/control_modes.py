@@ -16,6 +16,8 @@ Both task-space modes are solved once per control step by mink differential
 IK and tracked during the physics substeps by the joint position actuators.
 """
 
+import math
+
 import numpy as np
 
 from ikea_suite import errors
@@ -60,6 +62,7 @@ class TaskSpaceTargets:
     self.rot = np.tile(np.eye(3), (num_arms, 1, 1))
     self._max_translation, self._max_rotation = max_translation, max_rotation
     self._workspace = np.asarray(workspace, dtype=float)   # (num_arms, 2, 3) world boxes
+    self._low, self._high = self._workspace[:, 0], self._workspace[:, 1]
     self._max_lag = max_lag
 
   @property
@@ -76,19 +79,38 @@ class TaskSpaceTargets:
     for i, (pos, rot) in enumerate(poses):
       self.pos[i], self.rot[i] = pos, rot
 
-  def apply_delta(self, i, action, tcp_pos):
-    target = self.pos[i] + action[:3] * self._max_translation
+  def apply_deltas(self, actions, tcp_pos):
+    """Moves every arm's target by its delta action; actions (arms, >= 6), tcp_pos (arms, 3)."""
+    target = self.pos + actions[:, :3] * self._max_translation
     lag = target - tcp_pos
-    distance = np.linalg.norm(lag)
-    if distance > self._max_lag:
-      target = tcp_pos + lag * (self._max_lag / distance)
-    self.pos[i] = np.clip(target, *self._workspace[i])
-    self.rot[i] = geometry.axis_angle_to_mat(action[3:6] * self._max_rotation) @ self.rot[i]
+    distance = np.sqrt(np.einsum("ij,ij->i", lag, lag))
+    far = distance > self._max_lag
+    if far.any():
+      target[far] = tcp_pos[far] + lag[far] * (self._max_lag / distance[far])[:, None]
+    self.pos[:] = np.minimum(np.maximum(target, self._low), self._high)
+    for i, rotation in enumerate((actions[:, 3:6] * self._max_rotation).tolist()):
+      if rotation != [0.0, 0.0, 0.0]:
+        self.rot[i] = _axis_angle_rows(*rotation) @ self.rot[i]
 
   def apply_pose(self, i, action, home_rot):
     low, high = self._workspace[i]
     self.pos[i] = (low + high) / 2 + action[:3] * (high - low) / 2
     self.rot[i] = geometry.axis_angle_to_mat(action[3:6] * np.pi) @ home_rot
+
+
+def _axis_angle_rows(x, y, z):
+  """Rotation matrix of a rotation vector in Python floats (the formulas of MuJoCo's
+  mju_axisAngle2Quat and mju_quat2Mat): a few numpy calls would cost more."""
+  angle = math.sqrt(x * x + y * y + z * z)
+  if angle <= 1e-12:
+    return np.eye(3)
+  s = math.sin(angle * 0.5) / angle
+  w, x, y, z = math.cos(angle * 0.5), x * s, y * s, z * s
+  ww, xx, yy, zz = w * w, x * x, y * y, z * z
+  wx, wy, wz, xy, xz, yz = w * x, w * y, w * z, x * y, x * z, y * z
+  return np.array([[ww + xx - yy - zz, 2 * (xy - wz), 2 * (xz + wy)],
+                   [2 * (xy + wz), ww - xx + yy - zz, 2 * (yz - wx)],
+                   [2 * (xz - wy), 2 * (yz + wx), ww - xx - yy + zz]])
 
 
 def joint_targets(action, low, high):
