@@ -56,4 +56,7 @@ def test_step_gives_minks_joint_vector(robot):
       fast = ik.step(q, targets, dt, velocity_limited)
       reference = ik.step_mink(q, targets, dt, velocity_limited)
       np.testing.assert_allclose(fast, reference, atol=1e-6)
+    flat = [(list(pos), np.ravel(rot).tolist()) for pos, rot in targets]   # as in_frame gives
+    np.testing.assert_array_equal(ik.step(q, flat, 0.05), ik.step(q, targets, 0.05))
+    np.testing.assert_allclose(ik.step_mink(q, flat, 0.05), ik.step(q, flat, 0.05), atol=1e-6)
   assert ik.failures == 0

@@ -69,7 +69,8 @@ class DifferentialIK:
     return poses
 
   def step(self, q, targets, dt, velocity_limited=True):
-    """Joint vector after one IK step of length dt from q towards `targets` [(pos, rot)].
+    """Joint vector after one IK step of length dt from q towards `targets` [(pos, rot)]
+    (rot a 3x3 matrix, or 9 numbers row-major).
 
     When the QP has no solution (targets far outside the limits) the arm holds
     still: the step returns q (clipped to the limits) and counts the failure.
@@ -87,7 +88,8 @@ class DifferentialIK:
     """`step` through mink.build_ik and qpsolvers: the reference definition of the step."""
     configuration = self._configuration
     for task, (pos, rot) in zip(self._tasks, targets):
-      task.set_target(mink.SE3.from_rotation_and_translation(mink.SO3.from_matrix(rot), pos))
+      rot = mink.SO3.from_matrix(np.asarray(rot, dtype=float).reshape(3, 3))
+      task.set_target(mink.SE3.from_rotation_and_translation(rot, np.asarray(pos, dtype=float)))
     limits = self._limits if velocity_limited else self._position_limit
     configuration.update(self.clip_to_limits(q))
     # build_ik + solve_problem is mink.solve_ik without its per-call limit check

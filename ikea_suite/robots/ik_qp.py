@@ -168,9 +168,12 @@ class DirectQP:
     xpos, xmat = data.site_xpos, data.site_xmat
     for i, (site, (pos, rot)) in enumerate(zip(self._sites, targets)):
       mujoco.mj_jacSite(model, data, jac[i, :3], jac[i, 3:], site)
+      if isinstance(pos, np.ndarray):
+        pos = pos.tolist()
+      if isinstance(rot, np.ndarray) or len(rot) != 9:
+        rot = np.asarray(rot, dtype=float).reshape(9).tolist()
       m = xmat[site].tolist()
-      error, block, corner = frame_residual(xpos[site].tolist(), m, np.asarray(pos).tolist(),
-                                            np.asarray(rot).reshape(9).tolist())
+      error, block, corner = frame_residual(xpos[site].tolist(), m, pos, rot)
       errors += error
       # [[block, -corner], [0, block]] @ diag(R^T, R^T): mj_jacSite's world-aligned
       # Jacobian turned into the site frame (mink's body Jacobian) on the way.
@@ -201,7 +204,8 @@ class DirectQP:
   def solve(self, q, targets, dt, velocity_limited=True):
     """The step displacement from q (within the limits) towards `targets`, or None.
 
-    targets: per frame task, (position (3,), rotation (3, 3)) in the model's frame.
+    targets: per frame task, (position (3,), rotation (3, 3) or 9 floats row-major)
+    in the model's frame.
     """
     h, c, lower, upper = self.assemble(q, targets, dt, velocity_limited)
     x, _, exitflag, _ = daqp.solve(h, c, self._no_rows, upper, lower, self._sense)

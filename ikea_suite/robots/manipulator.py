@@ -230,8 +230,11 @@ class Manipulator(base.Robot):
     self._arm_act = np.array([bind(a.actuators).element_id for a in self._arms])
     self._finger_qpos = np.array([bind(a.gripper.joints).qposadr for a in self._arms])
     self._finger_act = np.array([bind(a.gripper.actuators).element_id for a in self._arms])
-    self._finger_open = np.array([a.gripper.open_qpos for a in self._arms])          # (arms, fingers)
-    self._finger_travel = np.array([a.gripper.squeeze_qpos - a.gripper.open_qpos for a in self._arms])
+    grips = [a.gripper for a in self._arms]
+    self._finger_open = np.array([g.open_qpos for g in grips])                  # (arms, fingers)
+    self._finger_travel = np.array([g.squeeze_qpos - g.open_qpos for g in grips])
+    self._finger_closed = np.array([g.closed_qpos for g in grips])
+    self._finger_span = np.array([g.open_qpos - g.closed_qpos for g in grips])
     # One fancy assignment writes every arm's joint targets from the IK's joint vector.
     self._arm_act_flat = self._arm_act.ravel()
     self._arm_from_ik = self._ik.qpos_index[self._arm_ik].ravel()
@@ -284,10 +287,8 @@ class Manipulator(base.Robot):
     else:
       for i in range(len(self._arms)):
         self._targets.apply_pose(i, action[i], self._base_rot @ self._home_rot[i])
-    # World targets into the base frame: R^T (p - base) and R^T rot, every arm at once.
-    positions = (self._targets.pos - self._base_pos) @ self._base_rot
-    rotations = self._base_rot.T @ self._targets.rot
-    q = self._ik.step(data.qpos[self._ik_to_qpos], list(zip(positions, rotations)), self._dt)
+    targets = self._targets.in_frame(self._base_pos, self._base_rot)
+    q = self._ik.step(data.qpos[self._ik_to_qpos], targets, self._dt)
     data.ctrl[self._arm_act_flat] = q[self._arm_from_ik]
 
   # -- state readers ---------------------------------------------------------------
@@ -376,8 +377,9 @@ class Manipulator(base.Robot):
     return quats
 
   def gripper_openings(self, physics):
-    """(arms,) gripper openings, 1 open .. 0 closed."""
-    return np.array([self.gripper_opening(physics, i) for i in range(len(self._arms))])
+    """(arms,) gripper openings, 1 open .. 0 closed (grippers.opening of every arm at once)."""
+    fraction = (physics.data.qpos[self._finger_qpos] - self._finger_closed) / self._finger_span
+    return np.minimum(np.maximum(fraction, 0.0), 1.0).sum(axis=1) / fraction.shape[1]
 
   def joint_positions(self, physics):
     return physics.data.qpos[self._arm_qpos].ravel().copy()
