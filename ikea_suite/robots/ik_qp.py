@@ -136,7 +136,7 @@ class DirectQP:
     nv = model.nv
     self._jac = np.zeros((len(self._sites), 6, nv))
     cost = np.array([t.cost for t in frame_tasks], dtype=float)              # (arms, 6)
-    self._cost = cost[:, :, None]
+    self._cost_rows = cost.tolist()
     # mink's weighted error is cost * (-gain * error).
     self._error_weight = -(cost * np.array([[t.gain] for t in frame_tasks])).reshape(-1)
     # The posture task's Jacobian is the identity: cost^2 on H's diagonal, with the damping.
@@ -151,7 +151,7 @@ class DirectQP:
     self._limit_gain = limit.gain
     self._speed = np.full(nv, np.inf)
     self._speed[velocity_limit.indices] = velocity_limit.limit
-    self._caps = {}   # (dt, velocity_limited) -> speed bound per coordinate, capped at _INF
+    self._caps = {}   # (dt, velocity_limited) -> +-speed bound per coordinate, capped at _INF
     self._no_rows = np.zeros((0, nv))
     self._sense = np.zeros(nv, dtype=np.intc)
 
@@ -166,7 +166,7 @@ class DirectQP:
     mujoco.mj_comPos(model, data)   # mj_jacSite reads the com-based frames
     errors, blocks = [], []
     xpos, xmat = data.site_xpos, data.site_xmat
-    for i, (site, (pos, rot)) in enumerate(zip(self._sites, targets)):
+    for i, (site, (pos, rot), cost) in enumerate(zip(self._sites, targets, self._cost_rows)):
       mujoco.mj_jacSite(model, data, jac[i, :3], jac[i, 3:], site)
       if isinstance(pos, np.ndarray):
         pos = pos.tolist()
@@ -175,17 +175,22 @@ class DirectQP:
       m = xmat[site].tolist()
       error, block, corner = frame_residual(xpos[site].tolist(), m, pos, rot)
       errors += error
-      # [[block, -corner], [0, block]] @ diag(R^T, R^T): mj_jacSite's world-aligned
+      # cost * [[block, -corner], [0, block]] @ diag(R^T, R^T): mj_jacSite's world-aligned
       # Jacobian turned into the site frame (mink's body Jacobian) on the way.
-      top = _mul3(block, (m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]))
-      side = (0.0,) * 9 if corner is None else _mul3(
+      t0, t1, t2, t3, t4, t5, t6, t7, t8 = _mul3(
+          block, (m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]))
+      s0, s1, s2, s3, s4, s5, s6, s7, s8 = (0.0,) * 9 if corner is None else _mul3(
           corner, (-m[0], -m[3], -m[6], -m[1], -m[4], -m[7], -m[2], -m[5], -m[8]))
-      blocks.append(top[0:3] + side[0:3] + top[3:6] + side[3:6] + top[6:9] + side[6:9]
-                    + (0.0, 0.0, 0.0) + top[0:3] + (0.0, 0.0, 0.0) + top[3:6]
-                    + (0.0, 0.0, 0.0) + top[6:9])
+      c0, c1, c2, c3, c4, c5 = cost
+      blocks.append((c0 * t0, c0 * t1, c0 * t2, c0 * s0, c0 * s1, c0 * s2,
+                     c1 * t3, c1 * t4, c1 * t5, c1 * s3, c1 * s4, c1 * s5,
+                     c2 * t6, c2 * t7, c2 * t8, c2 * s6, c2 * s7, c2 * s8,
+                     0.0, 0.0, 0.0, c3 * t0, c3 * t1, c3 * t2,
+                     0.0, 0.0, 0.0, c4 * t3, c4 * t4, c4 * t5,
+                     0.0, 0.0, 0.0, c5 * t6, c5 * t7, c5 * t8))
     # w is minus mink's weighted Jacobian W: H = W^T W = w^T w and
     # c = -(weighted error) @ W = (weighted error) @ w.
-    w = (np.array(blocks).reshape(-1, 6, 6) * self._cost @ jac).reshape(-1, model.nv)
+    w = (np.array(blocks).reshape(-1, 6, 6) @ jac).reshape(-1, model.nv)
     h = w.T @ w
     h += self._diagonal
     c = (self._error_weight * errors) @ w
@@ -194,11 +199,12 @@ class DirectQP:
     # mink's ConfigurationLimit and VelocityLimit rows, intersected per coordinate.
     key = (dt, velocity_limited)
     if key not in self._caps:
-      self._caps[key] = np.minimum(self._speed * dt if velocity_limited else np.inf, _INF)
-    cap = self._caps[key]
+      cap = np.minimum(self._speed * dt if velocity_limited else np.inf, _INF)
+      self._caps[key] = cap, -cap
+    cap, floor = self._caps[key]
     gain_q = self._limit_gain * q
     upper = np.minimum(self._gain_upper - gain_q, cap)
-    lower = np.maximum(self._gain_lower - gain_q, -cap)
+    lower = np.maximum(self._gain_lower - gain_q, floor)
     return h, c, lower, upper
 
   def solve(self, q, targets, dt, velocity_limited=True):
