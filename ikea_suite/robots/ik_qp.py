@@ -142,7 +142,7 @@ class DirectQP:
     # The posture task's Jacobian is the identity: cost^2 on H's diagonal, with the damping.
     self._diagonal = np.diag(posture.cost * posture.cost + damping)
     self._posture_weight = posture.cost * posture.cost * posture.gain
-    self._posture_offset = np.zeros(nv)
+    self._posture_offset = None   # posture weight * target, from set_posture_target
     limit = configuration_limit
     self._gain_upper = np.full(nv, np.inf)
     self._gain_lower = np.full(nv, -np.inf)
@@ -160,6 +160,8 @@ class DirectQP:
 
   def assemble(self, q, targets, dt, velocity_limited=True):
     """(H, c, lower, upper) of the QP at q (within the limits); see `solve`."""
+    if self._posture_offset is None:
+      raise ValueError("the posture target is not set (DifferentialIK.set_posture)")
     model, data, jac = self._model, self._data, self._jac
     data.qpos[:] = q
     mujoco.mj_kinematics(model, data)
