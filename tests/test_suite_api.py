@@ -113,14 +113,14 @@ def test_control_timestep_must_be_a_multiple_of_the_physics_timestep():
 
 
 def test_an_ik_failure_holds_the_arm_still(monkeypatch):
-  from ikea_suite.robots import ik
+  from ikea_suite.robots import ik_qp
   env = ikea_suite.load("table_four_leg_lack", "panda", seed=0)
   env.reset()
   robot = env.task.robot
   for _ in range(3):
     env.step(np.zeros(env.action_spec().shape))
-  failed = type("NoSolution", (), {"found": False, "x": None})()
-  monkeypatch.setattr(ik.qpsolvers, "solve_problem", lambda *args, **kwargs: failed)
+  # The step's QP solver reports the problem infeasible (DAQP's exit flag -1).
+  monkeypatch.setattr(ik_qp.daqp, "solve", lambda *args, **kwargs: (None, None, -1, {}))
   before = robot.arm_qpos(env.physics)
   action = np.zeros(env.action_spec().shape)
   action[:3] = 1.0   # a move the IK now cannot solve

@@ -16,6 +16,8 @@ Both task-space modes are solved once per control step by mink differential
 IK and tracked during the physics substeps by the joint position actuators.
 """
 
+import math
+
 import numpy as np
 
 from ikea_suite import errors
@@ -60,6 +62,7 @@ class TaskSpaceTargets:
     self.rot = np.tile(np.eye(3), (num_arms, 1, 1))
     self._max_translation, self._max_rotation = max_translation, max_rotation
     self._workspace = np.asarray(workspace, dtype=float)   # (num_arms, 2, 3) world boxes
+    self._low, self._high = self._workspace[:, 0].tolist(), self._workspace[:, 1].tolist()
     self._max_lag = max_lag
 
   @property
@@ -76,19 +79,62 @@ class TaskSpaceTargets:
     for i, (pos, rot) in enumerate(poses):
       self.pos[i], self.rot[i] = pos, rot
 
-  def apply_delta(self, i, action, tcp_pos):
-    target = self.pos[i] + action[:3] * self._max_translation
-    lag = target - tcp_pos
-    distance = np.linalg.norm(lag)
-    if distance > self._max_lag:
-      target = tcp_pos + lag * (self._max_lag / distance)
-    self.pos[i] = np.clip(target, *self._workspace[i])
-    self.rot[i] = geometry.axis_angle_to_mat(action[3:6] * self._max_rotation) @ self.rot[i]
+  def apply_deltas(self, actions, tcp_pos):
+    """Moves every arm's target by its delta action; actions (arms, >= 6), tcp_pos (arms, 3).
+
+    Python floats on purpose: with three numbers per arm each numpy call would cost more.
+    """
+    moves, tcps, low, high = actions[:, :6].tolist(), tcp_pos.tolist(), self._low, self._high
+    for i, (p, move, tcp) in enumerate(zip(self.pos.tolist(), moves, tcps)):
+      target = [p[k] + move[k] * self._max_translation for k in range(3)]
+      lag = [target[k] - tcp[k] for k in range(3)]
+      distance = math.sqrt(lag[0] * lag[0] + lag[1] * lag[1] + lag[2] * lag[2])
+      if distance > self._max_lag:
+        target = [tcp[k] + lag[k] * (self._max_lag / distance) for k in range(3)]
+      self.pos[i] = [min(max(target[k], low[i][k]), high[i][k]) for k in range(3)]
+      x, y, z = (v * self._max_rotation for v in move[3:])
+      if x or y or z:
+        self.rot[i] = _axis_angle_rows(x, y, z) @ self.rot[i]
+
+  def in_frame(self, origin, rotation):
+    """Every arm's target in the frame at `origin` turned by `rotation` (world frame):
+    [(position (3 floats), rotation (9 floats, row-major))], as DifferentialIK.step takes.
+
+    Python floats on purpose: with a 3x3 product per arm numpy calls would cost more.
+    """
+    r0, r1, r2, r3, r4, r5, r6, r7, r8 = np.asarray(rotation, dtype=float).reshape(9).tolist()
+    ox, oy, oz = np.asarray(origin, dtype=float).tolist()
+    out = []
+    for (x, y, z), (m0, m1, m2, m3, m4, m5, m6, m7, m8) in zip(
+        self.pos.tolist(), self.rot.reshape(-1, 9).tolist()):
+      x, y, z = x - ox, y - oy, z - oz
+      out.append(([r0 * x + r3 * y + r6 * z, r1 * x + r4 * y + r7 * z, r2 * x + r5 * y + r8 * z],
+                  [r0 * m0 + r3 * m3 + r6 * m6, r0 * m1 + r3 * m4 + r6 * m7,
+                   r0 * m2 + r3 * m5 + r6 * m8, r1 * m0 + r4 * m3 + r7 * m6,
+                   r1 * m1 + r4 * m4 + r7 * m7, r1 * m2 + r4 * m5 + r7 * m8,
+                   r2 * m0 + r5 * m3 + r8 * m6, r2 * m1 + r5 * m4 + r8 * m7,
+                   r2 * m2 + r5 * m5 + r8 * m8]))
+    return out
 
   def apply_pose(self, i, action, home_rot):
     low, high = self._workspace[i]
     self.pos[i] = (low + high) / 2 + action[:3] * (high - low) / 2
     self.rot[i] = geometry.axis_angle_to_mat(action[3:6] * np.pi) @ home_rot
+
+
+def _axis_angle_rows(x, y, z):
+  """Rotation matrix of a rotation vector in Python floats (the formulas of MuJoCo's
+  mju_axisAngle2Quat and mju_quat2Mat): a few numpy calls would cost more."""
+  angle = math.sqrt(x * x + y * y + z * z)
+  if angle <= 1e-12:
+    return np.eye(3)
+  s = math.sin(angle * 0.5) / angle
+  w, x, y, z = math.cos(angle * 0.5), x * s, y * s, z * s
+  ww, xx, yy, zz = w * w, x * x, y * y, z * z
+  wx, wy, wz, xy, xz, yz = w * x, w * y, w * z, x * y, x * z, y * z
+  return np.array([[ww + xx - yy - zz, 2 * (xy - wz), 2 * (xz + wy)],
+                   [2 * (xy + wz), ww - xx + yy - zz, 2 * (yz - wx)],
+                   [2 * (xz - wy), 2 * (yz + wx), ww - xx - yy + zz]])
 
 
 def joint_targets(action, low, high):

@@ -4,6 +4,12 @@ The robot's MJCF alone (base at the origin, no furniture) is compiled once,
 so each solve touches only the robot's joints. Targets are tool-centre-point
 poses in the robot base frame; one QP per call gives joint velocities that
 respect joint limits and per-joint velocity limits.
+
+mink's tasks and limits define the QP. The per-control-step `step` assembles
+it in ik_qp (the same H, c and limits, solved by DAQP with box bounds) because
+mink's general path costs most of a task-space control step; `step_mink`
+builds it with mink.build_ik + qpsolvers, which `solve` uses and tests compare
+`step` against.
 """
 
 import mink
@@ -11,6 +17,8 @@ import mujoco
 import numpy as np
 import qpsolvers
 from dm_control import mjcf
+
+from ikea_suite.robots import ik_qp
 
 # Regularizes the redundant (null-space) motion of 7-DoF arms towards home.
 _POSTURE_COST = 1e-2
@@ -47,12 +55,16 @@ class DifferentialIK:
     self.failures = 0   # IK steps with no solution, in which the arm held still
     self.arm_qpos_index = np.array(self._physics.bind(arm_joints).qposadr)
     limited = model.jnt_limited.astype(bool) & (model.jnt_type >= int(mujoco.mjtJoint.mjJNT_SLIDE))
-    self._limited_qpos = model.jnt_qposadr[limited]
-    self._low = model.jnt_range[limited, 0] + 1e-6
-    self._high = model.jnt_range[limited, 1] - 1e-6
+    self._low = np.full(model.nq, -np.inf)
+    self._high = np.full(model.nq, np.inf)
+    self._low[model.jnt_qposadr[limited]] = model.jnt_range[limited, 0] + 1e-6
+    self._high[model.jnt_qposadr[limited]] = model.jnt_range[limited, 1] - 1e-6
+    self._qp = ik_qp.DirectQP(model, site_ids, self._tasks, self._posture, *self._limits,
+                              damping=_DAMPING)
 
   def set_posture(self, q):
     self._posture.set_target(np.asarray(q, dtype=float))
+    self._qp.set_posture_target(q)
 
   def tcp_poses(self, q):
     """Base-frame (position, rotation) of every arm's tool-centre point at joint vector q."""
@@ -64,19 +76,31 @@ class DifferentialIK:
     return poses
 
   def step(self, q, targets, dt, velocity_limited=True):
-    """Joint vector after one IK step of length dt from q towards `targets` [(pos, rot)].
+    """Joint vector after one IK step of length dt from q towards `targets` [(pos, rot)]
+    (rot a 3x3 matrix, or 9 numbers row-major).
 
     When the QP has no solution (targets far outside the limits) the arm holds
     still: the step returns q (clipped to the limits) and counts the failure.
     """
+    # Limits are enforced on the step, so q must itself lie within them.
+    q = self.clip_to_limits(q)
+    x = self._qp.solve(q, targets, dt, velocity_limited)
+    if x is None:
+      self.failures += 1
+      return q
+    q += x   # hinge and slide joints: integrating the displacement is adding it
+    return q
+
+  def step_mink(self, q, targets, dt, velocity_limited=True):
+    """`step` through mink.build_ik and qpsolvers: the reference definition of the step."""
     configuration = self._configuration
     for task, (pos, rot) in zip(self._tasks, targets):
-      task.set_target(mink.SE3.from_rotation_and_translation(mink.SO3.from_matrix(rot), pos))
+      rot = mink.SO3.from_matrix(np.asarray(rot, dtype=float).reshape(3, 3))
+      task.set_target(mink.SE3.from_rotation_and_translation(rot, np.asarray(pos, dtype=float)))
     limits = self._limits if velocity_limited else self._position_limit
-    # Limits are enforced on the step, so q must itself lie within them.
     configuration.update(self.clip_to_limits(q))
     # build_ik + solve_problem is mink.solve_ik without its per-call limit check
-    # (q was just clipped), which is a measurable share of a step's cost.
+    # (q was just clipped).
     problem = mink.build_ik(configuration, self._tasks + [self._posture], dt, _DAMPING, limits)
     result = qpsolvers.solve_problem(problem, solver=self._solver)
     if not result.found:
@@ -85,14 +109,13 @@ class DifferentialIK:
     return configuration.integrate(result.x, 1.0)   # x is the step's displacement, not a velocity
 
   def clip_to_limits(self, q):
-    q = np.array(q, dtype=float)
-    q[self._limited_qpos] = np.clip(q[self._limited_qpos], self._low, self._high)
-    return q
+    """A copy of q within the joint limits (less 1e-6)."""
+    return np.minimum(np.maximum(np.asarray(q, dtype=float), self._low), self._high)
 
   def solve(self, q, targets, iterations=200, tolerance=1e-4):
     """Converged IK (no velocity limit) from seed q: for home poses at build time."""
     for _ in range(iterations):
-      q = self.step(q, targets, dt=0.1, velocity_limited=False)
+      q = self.step_mink(q, targets, dt=0.1, velocity_limited=False)
       errors = [np.linalg.norm(t.compute_error(self._configuration)) for t in self._tasks]
       if max(errors) < tolerance:
         break

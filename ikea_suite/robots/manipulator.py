@@ -240,6 +240,14 @@ class Manipulator(base.Robot):
     self._arm_act = np.array([bind(a.actuators).element_id for a in self._arms])
     self._finger_qpos = np.array([bind(a.gripper.joints).qposadr for a in self._arms])
     self._finger_act = np.array([bind(a.gripper.actuators).element_id for a in self._arms])
+    grips = [a.gripper for a in self._arms]
+    self._finger_open = np.array([g.open_qpos for g in grips])                  # (arms, fingers)
+    self._finger_travel = np.array([g.squeeze_qpos - g.open_qpos for g in grips])
+    self._finger_closed = np.array([g.closed_qpos for g in grips])
+    self._finger_span = np.array([g.open_qpos - g.closed_qpos for g in grips])
+    # One fancy assignment writes every arm's joint targets from the IK's joint vector.
+    self._arm_act_flat = self._arm_act.ravel()
+    self._arm_from_ik = self._ik.qpos_index[self._arm_ik].ravel()
     self._tcp_ids = np.array(bind([a.gripper.tcp_site for a in self._arms]).element_id)
     self._finger_bodies = [np.array(bind([j.parent for j in a.gripper.joints]).element_id)
                            for a in self._arms]
@@ -278,28 +286,27 @@ class Manipulator(base.Robot):
     data = physics.data
     if self._mode in (control_modes.TASK_SPACE, control_modes.TASK_SPACE_POSE):
       self._track_task_space(physics, action)
-    for i, arm in enumerate(self._arms):
-      if self._mode == control_modes.JOINT_POSITION:
+    elif self._mode == control_modes.JOINT_POSITION:
+      for i in range(len(self._arms)):
         data.ctrl[self._arm_act[i]] = control_modes.joint_targets(
             action[i, :-1], self._joint_low[i], self._joint_high[i])
-      elif self._mode == control_modes.JOINT_TORQUE:
+    else:
+      for i, arm in enumerate(self._arms):
         data.ctrl[self._arm_act[i]] = action[i, :-1] * arm.torque_limits
-      data.ctrl[self._finger_act[i]] = grippers.command(
-          arm.gripper.open_qpos, arm.gripper.squeeze_qpos, action[i, -1])
+    # grippers.command for every arm at once.
+    fraction = (np.minimum(np.maximum(action[:, -1:], -1.0), 1.0) + 1.0) / 2.0
+    data.ctrl[self._finger_act] = self._finger_open + fraction * self._finger_travel
 
   def _track_task_space(self, physics, action):
     data = physics.data
-    for i in range(len(self._arms)):
-      if self._mode == control_modes.TASK_SPACE:
-        self._targets.apply_delta(i, action[i], data.site_xpos[self._tcp_ids[i]])
-      else:
+    if self._mode == control_modes.TASK_SPACE:
+      self._targets.apply_deltas(action, data.site_xpos[self._tcp_ids])
+    else:
+      for i in range(len(self._arms)):
         self._targets.apply_pose(i, action[i], self._base_rot @ self._home_rot[i])
-    rot_t = self._base_rot.T
-    targets = [(rot_t @ (p - self._base_pos), rot_t @ r)
-               for p, r in zip(self._targets.pos, self._targets.rot)]
+    targets = self._targets.in_frame(self._base_pos, self._base_rot)
     q = self._ik.step(data.qpos[self._ik_to_qpos], targets, self._dt)
-    for i in range(len(self._arms)):
-      data.ctrl[self._arm_act[i]] = q[self._ik.qpos_index[self._arm_ik[i]]]
+    data.ctrl[self._arm_act_flat] = q[self._arm_from_ik]
 
   # -- state readers ---------------------------------------------------------------
 
@@ -387,8 +394,9 @@ class Manipulator(base.Robot):
     return quats
 
   def gripper_openings(self, physics):
-    """(arms,) gripper openings, 1 open .. 0 closed."""
-    return np.array([self.gripper_opening(physics, i) for i in range(len(self._arms))])
+    """(arms,) gripper openings, 1 open .. 0 closed (grippers.opening of every arm at once)."""
+    fraction = (physics.data.qpos[self._finger_qpos] - self._finger_closed) / self._finger_span
+    return np.minimum(np.maximum(fraction, 0.0), 1.0).sum(axis=1) / fraction.shape[1]
 
   def joint_positions(self, physics):
     return physics.data.qpos[self._arm_qpos].ravel().copy()
