@@ -29,6 +29,7 @@ class GripFacts:
     peak_force: peak grasp force, N.
     stroke: full opening, m.
     friction: sliding friction coefficient of the finger pads.
+    close_time: seconds the fingers take to close (0: not given, a few control steps).
     sources: figure name -> where the figure comes from.
   """
   force: float
@@ -36,6 +37,7 @@ class GripFacts:
   stroke: float
   friction: float
   sources: dict
+  close_time: float = 0.0
 
 
 def grip_facts(sheet: str) -> GripFacts:
@@ -51,7 +53,8 @@ def grip_facts(sheet: str) -> GripFacts:
   grip = robot_facts.load(sheet)["grip"]
   return GripFacts(force=float(grip["force_continuous_n"]), peak_force=float(grip["force_peak_n"]),
                    stroke=float(grip["stroke_m"]), friction=float(grip["finger_friction"]),
-                   sources=dict(grip["sources"]))
+                   sources=dict(grip["sources"]),
+                   close_time=float(grip.get("close_time_s", 0.0)))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -89,6 +92,9 @@ class GripperParts:
   # finger squeezes with its full force limit whatever the part's thickness (as a
   # real gripper's force-controlled grasp does), not kp times the travel left.
   squeeze_qpos: np.ndarray = None
+  # Seconds a closed command takes to close the fingers on a part (the sheet's figure);
+  # 0 where the sheet gives none and the fingers close within a few control steps.
+  close_time: float = 0.0
 
   def __post_init__(self):
     if self.squeeze_qpos is None:
