@@ -172,8 +172,10 @@ def finger_of_body(physics, finger_body_ids):
 
 
 def held_by_fingers(physics, finger_table, part_body_ids):
-  """(arms, parts) bool: a part is held by an arm when it touches at least two of that
-  arm's fingers (`finger_table` from `finger_of_body`)."""
+  """(arms, parts) bool: a part is held by an arm when it touches that arm's first finger
+  and at least one other (`finger_table` from `finger_of_body`): both fingers of a parallel
+  gripper, or the thumb and an opposing finger of the Jaco's hand (its two fingers side
+  by side touch a part from the same side and do not hold it)."""
   part_body_ids = np.asarray(part_body_ids)
   out = np.zeros((len(finger_table), len(part_body_ids)), dtype=bool)
   contact = physics.data.contact
@@ -187,6 +189,7 @@ def held_by_fingers(physics, finger_table, part_body_ids):
       finger, part = arm_fingers[first], part_of_body[second]
       pairs |= {(int(p), int(f)) for p, f in zip(part, finger) if p >= 0 and f >= 0}
     for p in {p for p, _ in pairs}:
-      if len({f for q, f in pairs if q == p}) >= 2:
+      touching = {f for q, f in pairs if q == p}
+      if 0 in touching and len(touching) >= 2:
         out[arm, p] = True
   return out

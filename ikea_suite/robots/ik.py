@@ -43,9 +43,24 @@ class DifferentialIK:
     self._limited_qpos = model.jnt_qposadr[limited]
     self._low = model.jnt_range[limited, 0] + 1e-6
     self._high = model.jnt_range[limited, 1] - 1e-6
+    # Unlimited hinges (the Jaco's joints 1, 4, 5, 6) turn for ever: their posture target is
+    # the home angle's nearest whole-turn equivalent, else a joint wound a turn or two from
+    # home (the Jaco's wrist reached 16 rad on seed 0) pulls the tool off its target.
+    endless = ~model.jnt_limited.astype(bool) & (model.jnt_type == int(mujoco.mjtJoint.mjJNT_HINGE))
+    self._endless_qpos = model.jnt_qposadr[endless]
+    self._posture_q = None
 
   def set_posture(self, q):
-    self._posture.set_target(np.asarray(q, dtype=float))
+    self._posture_q = np.array(q, dtype=float)
+    self._posture.set_target(self._posture_q)
+
+  def _wrap_posture(self, q):
+    if self._posture_q is None or not len(self._endless_qpos):
+      return
+    target = self._posture_q.copy()
+    index = self._endless_qpos
+    target[index] += 2 * np.pi * np.round((q[index] - target[index]) / (2 * np.pi))
+    self._posture.set_target(target)
 
   def tcp_poses(self, q):
     """Base-frame (position, rotation) of every arm's tool-centre point at joint vector q."""
@@ -68,6 +83,7 @@ class DifferentialIK:
     limits = self._limits if velocity_limited else self._position_limit
     # Limits are enforced on the step, so q must itself lie within them.
     configuration.update(self.clip_to_limits(q))
+    self._wrap_posture(configuration.q)
     # build_ik + solve_problem is mink.solve_ik without its per-call limit check
     # (q was just clipped), which is a measurable share of a step's cost.
     problem = mink.build_ik(configuration, self._tasks + [self._posture], dt, _DAMPING, limits)

@@ -236,6 +236,7 @@ class Manipulator(base.Robot):
     self._finger_table = grippers.finger_of_body(physics, self._finger_bodies)
     ranges = np.array([bind(a.joints).range for a in self._arms])            # (arms, joints, 2)
     limited = np.array([bind(a.joints).limited for a in self._arms]).astype(bool)
+    self._joint_limited = limited
     self._joint_low = np.where(limited, ranges[..., 0], -np.pi)
     self._joint_high = np.where(limited, ranges[..., 1], np.pi)
 
@@ -332,6 +333,7 @@ class Manipulator(base.Robot):
     solution = self._ik.solve(q, targets, iterations=iterations)
     arm_q = solution[self._ik.qpos_index[self._arm_ik[arm]]]
     margin = np.minimum(arm_q - self._joint_low[arm], self._joint_high[arm] - arm_q)
+    margin[~self._joint_limited[arm]] = np.inf   # an endless joint has no limit to come near
     pos, rot = self._ik.tcp_poses(solution)[arm]
     miss = (np.linalg.norm(pos - targets[arm][0])
             + 0.2 * np.linalg.norm(geometry.mat_to_axis_angle(rot @ targets[arm][1].T)))
