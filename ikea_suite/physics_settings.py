@@ -94,11 +94,12 @@ def configure_contacts(model, geom_ids=None):
   model.geom_condim[round_ids] = ROUND_GEOM_CONDIM
 
 
-def configure_pads(model, geom_ids):
-  """Sets the finger-pad contact impedance (PAD_SOLIMP) on compiled pad geoms; call after
-  configure_contacts, which resets every geom to the default."""
+def configure_pads(model, geom_ids, solref=CONTACT_SOLREF):
+  """Sets the finger-pad contact impedance (PAD_SOLIMP) and `solref` on compiled pad geoms;
+  call after configure_contacts, which resets every geom to the default."""
   ids = np.asarray(geom_ids, dtype=int)
   model.geom_solimp[ids] = PAD_SOLIMP
+  model.geom_solref[ids] = solref
   model.geom_solmix[ids] = PAD_SOLMIX
 
 

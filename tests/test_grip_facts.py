@@ -15,6 +15,7 @@ from ikea_suite import geometry
 from ikea_suite.oracle import arm_controller
 from ikea_suite.oracle import arm_motion
 from ikea_suite.robots import grippers
+from ikea_suite.robots import jaco
 
 # (sheet, force N, stroke m): the published figures the sheets must carry.
 _FIGURES = [("panda_gripper", 70.0, 0.08), ("rethink_gripper", 22.0, 0.0647),
@@ -69,8 +70,8 @@ def _drive(env, arm, goal_pos, goal_rot, grip, steps, tolerance=0.004):
   return False
 
 
-def _hold_test(robot_name, furniture_name, part_name, standing):
-  env = ikea_suite.load(furniture_name, robot_name, seed=0)
+def _hold_test(robot_name, furniture_name, part_name, standing, scale=1.0):
+  env = ikea_suite.load(furniture_name, robot_name, seed=0, scale=scale)
   env.reset()
   physics, robot, furniture = env.physics, env.task.robot, env.task.furniture
   part = furniture.spec.part_index(part_name)
@@ -106,7 +107,8 @@ def _hold_test(robot_name, furniture_name, part_name, standing):
   assert _drive(env, 0, grasp, tool_rot, -1.0, 200)
   action = np.zeros(env.action_spec().shape)
   servo = arm_motion.PoseServo()
-  for _ in range(10):   # close on the part
+  close_time = robot.arms[0].gripper.close_time   # the Jaco's hand takes 1.2 s
+  for _ in range(max(10, int(np.ceil(close_time / env.control_timestep())))):   # close on it
     action[:6] = servo(robot, physics, 0, grasp, tool_rot)
     action[6] = 1.0
     env.step(action)
@@ -148,10 +150,23 @@ _SHELF = ("bookcase_shelf_unit_billy", "shelf0", True)         # 1.5 kg, 18 mm p
 # Not yet held by the Sawyer (measured, reported in issue 9's closing note): its 8 mm
 # fingertips let the 1.5 kg shelf swing about the finger axis and out of the 22 N grasp
 # within 1 s, and a 12 mm box wall standing on edge is pushed over by the first finger.
-_CASES = [("sawyer", _LEG), ("panda", _LEG), ("panda", _SHELF)]
+_CASES = [("sawyer", _LEG), ("panda", _LEG), ("panda", _SHELF), ("jaco", _LEG)]
 
 
 @pytest.mark.parametrize("robot,part", _CASES, ids=[f"{r}-{p[1]}" for r, p in _CASES])
 def test_arm_holds_a_real_mass_part_while_carrying_and_turning_it(robot, part):
   mass, slip = _hold_test(robot, *part)
   assert mass > 0.15 and slip < 0.005
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "measured 5.1 mm: the two fingers (1 N m each) back-drive the single thumb (1 N m) "
+    "and push the leg 5 mm towards it over the first 1.5 s of the carry, until the fingers "
+    "reach their closed limit; the leg is held (never dropped) but the 5 mm bound is missed"))
+def test_jaco_holds_a_work_scale_leg_between_thumb_and_fingers():
+  # The Lack leg at the Jaco's work scale (0.5: 25 mm square, 24 g, its scaled catalog
+  # mass), the part the expert carries: before the pinch-depth TCP and the stiff finger
+  # contacts, the fingertips struck the floor or sank into the light leg and lost it.
+  assert jaco.Jaco.WORK_SCALE == 0.5
+  mass, slip = _hold_test("jaco", *_LEG, scale=0.5)
+  assert mass == pytest.approx(0.19 / 8, rel=0.05) and slip < 0.005

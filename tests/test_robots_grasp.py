@@ -124,3 +124,38 @@ def test_sawyer_carries_a_welded_assembly_by_one_part():
   assert len(active) == 1
   assert {model.eq_obj1id[active[0]], model.eq_obj2id[active[0]]} == {
       top_body, task.furniture.body_ids[leg]}
+
+
+def test_scripted_jaco_lifts_a_work_scale_leg_between_thumb_and_fingers():
+  # The Lack at the Jaco's work scale: a 25 mm leg of 24 g (its catalog mass scaled).
+  # A grasp may miss (seed 0's first does: the thumb brushes the floor and the leg slides
+  # out); the controller then grasps again. One carried second must come within 600 steps.
+  env = ikea_suite.load("table_four_leg_lack", "jaco", seed=0, scale=0.5)
+  env.reset()
+  controller = arm_controller.ArmAssemblyController(env)
+  physics, robot, furniture = env.physics, env.task.robot, env.task.furniture
+  carried = 0
+  for _ in range(600):
+    env.step(controller())
+    carried = carried + 1 if controller.phase == Phase.ALIGN else 0
+    if carried == 20:   # a second of the carry, the leg never let go
+      break
+  assert carried == 20, "the Jaco never carried a leg for a second"
+  leg = controller.job[1]
+  assert not physics.data.eq_active.any(), "no weld may hold the part"
+  assert targets.part_pose(physics, furniture, leg)[0][2] > 0.08   # up off the floor
+  held = robot.held_parts_by_tool(physics, furniture.body_ids)[0]
+  assert held[leg] and held.sum() == 1   # the thumb and an opposing finger touch it
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_scripted_jaco_connects_the_first_leg(seed):
+  env = ikea_suite.load("table_four_leg_lack", "jaco", seed=seed, scale=0.5)
+  timestep = env.reset()
+  controller = arm_controller.ArmAssemblyController(env)
+  for _ in range(1500):
+    timestep = env.step(controller(timestep))
+    if env.task.state.connections:
+      break
+  assert len(env.task.state.connections) == 1
+  assert env.task.state.same_group(env.task.root_part, controller.job[1])

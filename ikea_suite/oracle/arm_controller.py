@@ -45,6 +45,9 @@ class ArmAssemblyController:
     self._env, self._robot, self._arm = env, robot, arm
     self._hover, self._lift, self._carry, self._approach = hover, lift, carry, approach
     self._tolerance = tolerance
+    # A hand slower than `close_steps` (the Jaco's, 1.2 s) gets its own closing time.
+    close_steps = max(close_steps, int(np.ceil(
+        robot.arms[arm].gripper.close_time / env.control_timestep())))
     self._close_steps, self._release_steps = close_steps, release_steps
     self._stall_steps = stall_steps
     self._pad_below = None   # measured at the first grasp, with the arm at home
@@ -114,7 +117,9 @@ class ArmAssemblyController:
     physics = self._env.physics
     fingers = self._robot.finger_positions(physics, self._arm)
     _, rot = self._robot.tcp_pose(physics, self._arm)
-    axis = rot.T @ (fingers[1] - fingers[0])
+    # From the first finger to the middle of the others: across a parallel gripper's two,
+    # from the thumb to the opposing pair of a three-finger hand.
+    axis = rot.T @ (fingers[1:].mean(axis=0) - fingers[0])
     axis[2] = 0.0
     return axis / np.linalg.norm(axis)
 

@@ -1,28 +1,40 @@
 """Task-space motion helpers for scripted arms: tool orientations, pose-seeking actions and
 pose errors, shared by the arm controller and the experts."""
 
+import mujoco
 import numpy as np
 
 from ikea_suite import geometry
 
 
-def fingertip_reach(robot, physics, arm):
+def fingertip_reach(robot, physics, arm, samples=13):
   """How far the fingertips reach beyond the tool-centre point along the approach axis (m).
 
-  Read from the compiled model in the present pose: the farthest corner of any finger
-  collision geom's bounding box, relative to the TCP.
+  Read from the compiled model with the arm in its present pose, over the fingers'
+  whole stroke (on a scratch copy of the state): the farthest corner of any finger
+  collision geom's bounding box, relative to the TCP. Slide fingers reach equally far
+  at every opening; curling ones (the Jaco's hinged fingers) reach farthest part way
+  closed, and that depth is what must stay clear of the floor while they close.
   """
-  model, data = physics.model, physics.data
-  tcp_pos, tcp_rot = robot.tcp_pose(physics, arm)
+  model = physics.model
+  gripper = robot.arms[arm].gripper
+  data = mujoco.MjData(model.ptr)
+  data.qpos[:] = physics.data.qpos
+  finger_qpos = np.asarray(physics.bind(gripper.joints).qposadr)
+  tcp_site = int(physics.bind(gripper.tcp_site).element_id)
   prefix = robot.mjcf_model.model + "/"
+  geoms = [g for g in range(model.ngeom) if model.geom_contype[g]
+           and model.body(model.geom_bodyid[g]).name.startswith(prefix)
+           and "finger" in model.body(model.geom_bodyid[g]).name]
   farthest = 0.0
-  for g in range(model.ngeom):
-    body = model.body(model.geom_bodyid[g]).name
-    if not (body.startswith(prefix) and "finger" in body) or not model.geom_contype[g]:
-      continue
-    corners = geometry.box_corners(-model.geom_aabb[g, 3:], model.geom_aabb[g, 3:])
-    world = data.geom_xpos[g] + (corners + model.geom_aabb[g, :3]) @ data.geom_xmat[g].reshape(3, 3).T
-    farthest = max(farthest, float(((world - tcp_pos) @ tcp_rot[:, 2]).max()))
+  for fraction in np.linspace(0.0, 1.0, samples):
+    data.qpos[finger_qpos] = gripper.open_qpos + fraction * (gripper.closed_qpos - gripper.open_qpos)
+    mujoco.mj_kinematics(model.ptr, data)
+    tcp_pos, approach = data.site_xpos[tcp_site], data.site_xmat[tcp_site].reshape(3, 3)[:, 2]
+    for g in geoms:
+      corners = geometry.box_corners(-model.geom_aabb[g, 3:], model.geom_aabb[g, 3:])
+      world = data.geom_xpos[g] + (corners + model.geom_aabb[g, :3]) @ data.geom_xmat[g].reshape(3, 3).T
+      farthest = max(farthest, float(((world - tcp_pos) @ approach).max()))
   return farthest
 
 

@@ -29,6 +29,7 @@ class GripFacts:
     peak_force: peak grasp force, N.
     stroke: full opening, m.
     friction: sliding friction coefficient of the finger pads.
+    close_time: seconds the fingers take to close (0: not given, a few control steps).
     sources: figure name -> where the figure comes from.
   """
   force: float
@@ -36,6 +37,7 @@ class GripFacts:
   stroke: float
   friction: float
   sources: dict
+  close_time: float = 0.0
 
 
 def grip_facts(sheet: str) -> GripFacts:
@@ -51,7 +53,8 @@ def grip_facts(sheet: str) -> GripFacts:
   grip = robot_facts.load(sheet)["grip"]
   return GripFacts(force=float(grip["force_continuous_n"]), peak_force=float(grip["force_peak_n"]),
                    stroke=float(grip["stroke_m"]), friction=float(grip["finger_friction"]),
-                   sources=dict(grip["sources"]))
+                   sources=dict(grip["sources"]),
+                   close_time=float(grip.get("close_time_s", 0.0)))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -91,6 +94,9 @@ class GripperParts:
   # finger squeezes with its full force limit whatever the part's thickness (as a
   # real gripper's force-controlled grasp does), not kp times the travel left.
   squeeze_qpos: np.ndarray = None
+  # Seconds a closed command takes to close the fingers on a part (the sheet's figure);
+  # 0 where the sheet gives none and the fingers close within a few control steps.
+  close_time: float = 0.0
 
   def __post_init__(self):
     if self.squeeze_qpos is None:
@@ -171,8 +177,10 @@ def finger_of_body(physics, finger_body_ids):
 
 
 def held_by_fingers(physics, finger_table, part_body_ids):
-  """(arms, parts) bool: a part is held by an arm when it touches at least two of that
-  arm's fingers (`finger_table` from `finger_of_body`)."""
+  """(arms, parts) bool: a part is held by an arm when it touches that arm's first finger
+  and at least one other (`finger_table` from `finger_of_body`): both fingers of a parallel
+  gripper, or the thumb and an opposing finger of the Jaco's hand (its two fingers side
+  by side touch a part from the same side and do not hold it)."""
   part_body_ids = np.asarray(part_body_ids)
   out = np.zeros((len(finger_table), len(part_body_ids)), dtype=bool)
   contact = physics.data.contact
@@ -186,6 +194,7 @@ def held_by_fingers(physics, finger_table, part_body_ids):
       finger, part = arm_fingers[first], part_of_body[second]
       pairs |= {(int(p), int(f)) for p, f in zip(part, finger) if p >= 0 and f >= 0}
     for p in {p for p, _ in pairs}:
-      if len({f for q, f in pairs if q == p}) >= 2:
+      touching = {f for q, f in pairs if q == p}
+      if 0 in touching and len(touching) >= 2:
         out[arm, p] = True
   return out

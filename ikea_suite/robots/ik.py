@@ -61,10 +61,26 @@ class DifferentialIK:
     self._high[model.jnt_qposadr[limited]] = model.jnt_range[limited, 1] - 1e-6
     self._qp = ik_qp.DirectQP(model, site_ids, self._tasks, self._posture, *self._limits,
                               damping=_DAMPING)
+    # Unlimited hinges (the Jaco's joints 1, 4, 5, 6) turn for ever: their posture target is
+    # the home angle's nearest whole-turn equivalent, else a joint wound a turn or two from
+    # home (the Jaco's wrist reached 16 rad on seed 0) pulls the tool off its target.
+    endless = ~model.jnt_limited.astype(bool) & (model.jnt_type == int(mujoco.mjtJoint.mjJNT_HINGE))
+    self._endless_qpos = model.jnt_qposadr[endless]
+    self._posture_q = None
 
   def set_posture(self, q):
-    self._posture.set_target(np.asarray(q, dtype=float))
-    self._qp.set_posture_target(q)
+    self._posture_q = np.array(q, dtype=float)
+    self._posture.set_target(self._posture_q)
+    self._qp.set_posture_target(self._posture_q)
+
+  def _wrap_posture(self, q):
+    if self._posture_q is None or not len(self._endless_qpos):
+      return
+    target = self._posture_q.copy()
+    index = self._endless_qpos
+    target[index] += 2 * np.pi * np.round((q[index] - target[index]) / (2 * np.pi))
+    self._posture.set_target(target)
+    self._qp.set_posture_target(target)
 
   def tcp_poses(self, q):
     """Base-frame (position, rotation) of every arm's tool-centre point at joint vector q."""
@@ -84,6 +100,7 @@ class DifferentialIK:
     """
     # Limits are enforced on the step, so q must itself lie within them.
     q = self.clip_to_limits(q)
+    self._wrap_posture(q)
     x = self._qp.solve(q, targets, dt, velocity_limited)
     if x is None:
       self.failures += 1
@@ -99,6 +116,7 @@ class DifferentialIK:
       task.set_target(mink.SE3.from_rotation_and_translation(rot, np.asarray(pos, dtype=float)))
     limits = self._limits if velocity_limited else self._position_limit
     configuration.update(self.clip_to_limits(q))
+    self._wrap_posture(configuration.q)
     # build_ik + solve_problem is mink.solve_ik without its per-call limit check
     # (q was just clipped).
     problem = mink.build_ik(configuration, self._tasks + [self._posture], dt, _DAMPING, limits)
@@ -107,6 +125,12 @@ class DifferentialIK:
       self.failures += 1
       return configuration.q.copy()
     return configuration.integrate(result.x, 1.0)   # x is the step's displacement, not a velocity
+
+  @property
+  def limits(self):
+    """(low, high) per qpos entry of the ranges the IK keeps in (working ranges applied;
+    infinite for unlimited joints), shrunk by 1e-6 rad."""
+    return self._low.copy(), self._high.copy()
 
   def clip_to_limits(self, q):
     """A copy of q within the joint limits (less 1e-6)."""

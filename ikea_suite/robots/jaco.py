@@ -9,6 +9,7 @@ floor at (-0.45, 0, 0), facing +x.
 import numpy as np
 from dm_control.entities.manipulators import kinova
 
+from ikea_suite import physics_settings
 from ikea_suite.robots import grippers
 from ikea_suite.robots import manipulator
 from ikea_suite.robots import robot_facts
@@ -21,6 +22,13 @@ _FINGER_OPEN, _FINGER_CLOSED = 0.15, 1.35   # the hand's finger joint range
 _FINGER_KP = 5.0
 # The KG-3's ~25 N grip comes from 1 N m per finger joint (kinova_hand.json, after dm_control).
 _HAND_SHEET = "kinova_hand"
+# Finger contacts as stiff as MuJoCo integrates stably (time constant twice the timestep,
+# and the pads' impedance, physics_settings.PAD_SOLIMP), and taking precedence over the
+# part's (geom priority). MuJoCo's contact softness scales with
+# the effective mass, which at a finger is the light part's: with the default 20 ms
+# contacts the 1 N m fingers sank 8-17 mm into a 24 g leg (the Lack's at scale 0.5), and
+# the curved fingertips, that deep inside, pushed it down out of the hand.
+_FINGER_SOLREF = (2 * physics_settings.TIMESTEP, 1.0)
 
 
 class Jaco(manipulator.Manipulator):
@@ -28,7 +36,11 @@ class Jaco(manipulator.Manipulator):
 
   DEFAULT_NAME = "jaco"
   BASE_POS = (-0.45, 0.0, 0.0)
-  REACH = 0.8
+  # Where parts may lie: the tool, pointing down, meets a part's centre on the floor to
+  # 4 mm by IK out to 0.70 m ahead of the base and misses by 13 mm at 0.72 m (measured on
+  # the compiled model, TCP at the pinch depth: the hand puts it 0.19 m past the wrist).
+  # At 0.8, parts drawn 0.72-0.8 m out were never picked up.
+  REACH = 0.7
   KP_PER_NM = 30.0   # the Jaco's heavy joint armature needs stiffer position gains
 
   def _build_body(self, name):
@@ -41,14 +53,20 @@ class Jaco(manipulator.Manipulator):
     for actuator in list(arm_entity.actuators) + list(hand_entity.actuators):
       actuator.remove()
     hand = hand_entity.mjcf_model
-    grip = grippers.grip_facts(_HAND_SHEET)
+    facts = grippers.grip_facts(_HAND_SHEET)
     finger_torque = float(robot_facts.load(_HAND_SHEET)["grip"]["finger_torque_nm"])
     for geom in hand.find_all("geom"):
       if geom.contype != 0 or geom.conaffinity != 0:
-        geom.friction = (grip.friction, 0.05, 0.0001)
-    grip = hand_entity.grip_site
-    # The tool-centre point: at dm_control's grip site with z along the approach direction.
-    tcp = grip.parent.add("site", name="tcp", pos=grip.pos, quat=(0.0, 1.0, 0.0, 0.0),
+        geom.friction = (facts.friction, 0.05, 0.0001)
+    grip, pinch = hand_entity.grip_site, hand_entity.pinch_site
+    # The tool-centre point: on the hand's axis (through dm_control's grip site) at the
+    # depth of its pinch site, where the curled fingertips meet (z along the approach).
+    # The fingers hinge 4.4 cm behind the grip site and close in an arc: a 25 mm leg
+    # (the Lack's at scale 0.5) is met on its sides only with its centre about 3.5 cm
+    # beyond the grip site; centred at the grip site, the sweeping fingertips (up to
+    # 4.4 cm beyond it) strike the floor first and never touch the part.
+    tcp_pos = np.array([grip.pos[0], grip.pos[1], pinch.pos[2]])
+    tcp = grip.parent.add("site", name="tcp", pos=tcp_pos, quat=(0.0, 1.0, 0.0, 0.0),
                           size=[0.005], group=4)
     camera = grip.parent.add("camera", name="eye_in_hand", pos=(0.0, 0.07, -0.06),
                              xyaxes=(1, 0, 0, 0, 0, 1), fovy=75)
@@ -61,9 +79,17 @@ class Jaco(manipulator.Manipulator):
         joints=list(hand_entity.joints), actuators=actuators,
         open_qpos=np.full(count, _FINGER_OPEN), closed_qpos=np.full(count, _FINGER_CLOSED),
         squeeze_qpos=np.full(count, _FINGER_CLOSED + finger_torque / _FINGER_KP),
-        tcp_site=tcp, root_body=grip.parent)
+        tcp_site=tcp, root_body=grip.parent, close_time=facts.close_time)
     arm = manipulator.Arm(
         prefix="", joints=list(arm_entity.joints), torque_limits=np.array(_TORQUE_LIMITS),
         gripper=gripper, camera=camera, seed=np.array(_SEED), home_tcp=np.array([0.4, 0.0, 0.35]),
         workspace=np.array([[-0.45, -0.8, 0.005], [0.85, 0.8, 0.9]]))
     return root, [arm]
+
+  def after_compile(self, physics, random_state):
+    super().after_compile(physics, random_state)
+    model = physics.model   # after the task's configure_contacts, which sets every geom
+    fingers = np.isin(self._finger_table[0][model.geom_bodyid], np.arange(3))
+    fingers &= model.geom_contype != 0
+    model.geom_priority[fingers] = 1
+    physics_settings.configure_pads(model, np.flatnonzero(fingers), solref=_FINGER_SOLREF)

@@ -68,12 +68,10 @@ class Manipulator(base.Robot):
   WORK_SCALE = 0.5
   KP_PER_NM = 10.0               # position gain per N m of torque limit
   VELOCITY_LIMIT = 2.0           # rad/s per joint in the IK
-  # {arm joint index: (low, high) rad}: ranges the task-space IK keeps joints in, narrower
-  # than their physical limits, so that the redundant arm stays on one branch (shoulder
-  # forward, elbow up). Differential IK follows the tool wherever it goes, and over a
-  # few carries it can wind into a flipped branch with the base joint at its limit,
-  # from which most of the work area is out of reach though it was reachable from home.
-  # Joint modes keep the physical limits.
+  # {arm joint index: (low, high) rad} the task-space IK keeps within, inside the physical
+  # limits (joint modes keep those), so the redundant arm stays on one branch: over a few
+  # carries differential IK can wind it into a flipped one, base joint at its limit, from
+  # which most of the work area is out of reach though it was reachable from home.
   IK_WORKING_RANGES = {}
 
   def _build(self, name=None, control_mode="task_space", max_translation=0.025,
@@ -256,13 +254,9 @@ class Manipulator(base.Robot):
     limited = np.array([bind(a.joints).limited for a in self._arms]).astype(bool)
     self._joint_low = np.where(limited, ranges[..., 0], -np.pi)
     self._joint_high = np.where(limited, ranges[..., 1], np.pi)
-    self._ik_low, self._ik_high = self._joint_low.copy(), self._joint_high.copy()
-    for j, (low, high) in self.IK_WORKING_RANGES.items():
-      self._ik_low[:, j] = np.maximum(self._ik_low[:, j], low)
-      self._ik_high[:, j] = np.minimum(self._ik_high[:, j], high)
-    pads = [g for a in self._arms for g in a.gripper.pad_geoms]
-    if pads:   # after the task's configure_contacts: composer calls the task's hook first
-      physics_settings.configure_pads(physics.model, bind(pads).element_id)
+    # After the task's configure_contacts: composer calls the task's hook first.
+    physics_settings.configure_pads(
+        physics.model, bind([g for a in self._arms for g in a.gripper.pad_geoms]).element_id)
 
   def home_tcp_poses(self):
     """World poses of every tool-centre point at the home configuration."""
@@ -355,7 +349,8 @@ class Manipulator(base.Robot):
     targets[arm] = (to_base @ (goal_pos - self._base_pos), to_base @ goal_rot)
     solution = self._ik.solve(q, targets, iterations=iterations)
     arm_q = solution[self._ik.qpos_index[self._arm_ik[arm]]]
-    margin = np.minimum(arm_q - self._ik_low[arm], self._ik_high[arm] - arm_q)
+    low, high = (b[self._ik.qpos_index[self._arm_ik[arm]]] for b in self._ik.limits)
+    margin = np.minimum(arm_q - low, high - arm_q)   # infinite for an endless joint
     pos, rot = self._ik.tcp_poses(solution)[arm]
     miss = (np.linalg.norm(pos - targets[arm][0])
             + 0.2 * np.linalg.norm(geometry.mat_to_axis_angle(rot @ targets[arm][1].T)))
