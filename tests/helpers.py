@@ -1,5 +1,6 @@
-"""Small helpers shared by tests: placing parts in their assembled pose."""
+"""Small helpers shared by tests: placing parts in their assembled pose, welds that are on."""
 
+import mujoco
 import numpy as np
 
 from ikea_suite import geometry
@@ -64,3 +65,9 @@ def first_geom(env, part):
   model = env.physics.model
   body = env.task.furniture.body_ids[part]
   return int(np.flatnonzero((model.geom_bodyid == body) & (model.geom_conaffinity != 0))[0])
+
+
+def welds_on(physics):
+  """Per equality constraint, whether it is a weld that is on (the grippers' finger
+  couplings are joint equalities, always on, and hold no part)."""
+  return physics.data.eq_active & (physics.model.eq_type == mujoco.mjtEq.mjEQ_WELD)

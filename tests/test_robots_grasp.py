@@ -6,6 +6,8 @@ import pytest
 import ikea_suite
 from ikea_suite.oracle import arm_controller
 from ikea_suite.oracle import targets
+from tests import helpers
+
 
 Phase = arm_controller.Phase
 
@@ -25,7 +27,7 @@ def test_sawyer_lifts_a_leg_by_friction_and_holds_it_two_seconds_while_moving():
   _run_until(env, controller, Phase.ALIGN)   # reached, descended, closed, lifted
   physics, robot, furniture = env.physics, env.task.robot, env.task.furniture
   leg = controller.job[1]
-  assert not physics.data.eq_active.any(), "no weld may hold the part"
+  assert not helpers.welds_on(physics).any(), "no weld may hold the part"
 
   def leg_in_tool():
     pos, rot = targets.part_pose(physics, furniture, leg)
@@ -50,7 +52,7 @@ def test_sawyer_lifts_a_leg_by_friction_and_holds_it_two_seconds_while_moving():
   assert np.ptp(np.array(tcp_path)[:, :2], axis=0).max() > 0.1   # the arm really moved
   assert min(heights) > 0.1   # held up the whole time (a dropped leg lies at 0.025 m)
   assert np.linalg.norm(leg_in_tool() - start) < 0.02   # no slip in the fingers
-  assert not physics.data.eq_active.any()
+  assert not helpers.welds_on(physics).any()
 
   action = np.zeros(env.action_spec().shape)
   action[6] = -1.0   # open: friction was all that held it
@@ -120,7 +122,7 @@ def test_sawyer_carries_a_welded_assembly_by_one_part():
                    for b in (model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2])
                    if "finger" in model.body(b).name}
   assert finger_bodies   # held by the fingers' contacts
-  active = np.flatnonzero(data.eq_active)   # the only weld is the one between the parts
+  active = np.flatnonzero(helpers.welds_on(physics))   # the only weld is the one between the parts
   assert len(active) == 1
   assert {model.eq_obj1id[active[0]], model.eq_obj2id[active[0]]} == {
       top_body, task.furniture.body_ids[leg]}
@@ -142,7 +144,7 @@ def test_scripted_jaco_lifts_a_work_scale_leg_between_thumb_and_fingers():
       break
   assert carried == 20, "the Jaco never carried a leg for a second"
   leg = controller.job[1]
-  assert not physics.data.eq_active.any(), "no weld may hold the part"
+  assert not helpers.welds_on(physics).any(), "no weld may hold the part"
   assert targets.part_pose(physics, furniture, leg)[0][2] > 0.08   # up off the floor
   held = robot.held_parts_by_tool(physics, furniture.body_ids)[0]
   assert held[leg] and held.sum() == 1   # the thumb and an opposing finger touch it

@@ -13,6 +13,7 @@ from ikea_suite.robots import cursor
 from ikea_suite.tasks import assembly
 from tests import helpers
 
+
 TABLE = "table_four_leg_lack"
 
 
@@ -261,7 +262,7 @@ def test_reset_restores_the_episode_without_recompiling(env):
   env.reset()
   assert env.physics is physics and env.physics.model.ptr is model_ptr   # same compiled model
   np.testing.assert_array_equal(physics.model.geom_contype, contype)
-  assert not physics.data.eq_active.any() and env.task.state.num_groups == len(env.task.furniture.parts)
+  assert not helpers.welds_on(physics).any() and env.task.state.num_groups == len(env.task.furniture.parts)
 
 
 def test_an_initializer_that_names_no_preassembled_pairs_is_refused():

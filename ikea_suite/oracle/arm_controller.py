@@ -20,6 +20,9 @@ from ikea_suite.robots import control_modes
 from ikea_suite.tasks import planner
 
 _ANY_TWIST_GRID = np.radians(np.arange(0, 360, 45))
+# The open fingers go down to a part slowly: at full speed the hand swings sideways by
+# up to 2.6 cm (Sawyer, 7 cm descent in 3 steps) and a finger lands on the part.
+DESCEND_GAIN = 0.3
 
 
 class Phase(enum.Enum):
@@ -275,7 +278,8 @@ class ArmAssemblyController:
       point, rot = self._grasp_pose(moving)
       goal = point + [0.0, 0.0, self._hover] if phase == Phase.REACH else point
       waypoint = self._arc_waypoint(self._over_assembly(goal)) if phase == Phase.REACH else goal
-      poses[:] = self._servo(robot, physics, arm, waypoint, rot)
+      poses[:] = self._servo(robot, physics, arm, waypoint, rot,
+                             gain=1.0 if phase == Phase.REACH else DESCEND_GAIN)
       distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
       self._stalled += 1
       if self._stalled > self._stall_steps:   # cannot get there: try another part

@@ -18,6 +18,9 @@ from ikea_suite.robots import robot_facts
 # comes from the sheet's grip block (MuJoCo takes the larger of the two geoms').
 _PAD_TORSION, _PAD_ROLLING = 0.05, 0.0001
 _PAD_CONDIM = 4
+# The finger coupling is a gear train: as stiff as MuJoCo integrates stably (PHYSICS.md).
+_COUPLING_SOLREF = (0.004, 1.0)
+_COUPLING_SOLIMP = (0.95, 0.99, 0.001, 0.5, 2.0)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -132,11 +135,26 @@ def build(hand_body, spec, prefix):
         "position", name=f"{prefix}{joint_name}_position", joint=joint, kp=kp,
         ctrllimited=True, ctrlrange=sorted([open_q, target]), forcelimited=True,
         forcerange=[-force, force]))
+  _couple(mjcf_root, joints, values)
   return GripperParts(joints=joints, actuators=actuators, open_qpos=values[:, 0],
                       closed_qpos=values[:, 1],
                       tcp_site=mjcf_root.find("site", prefix + spec.tcp_site),
                       root_body=elements[root["name"]], squeeze_qpos=np.array(squeeze),
                       pad_geoms=pad_geoms)
+
+
+def _couple(mjcf_root, joints, values):
+  """Ties each finger to the first, as the hands' single motor does (Franka hand: both
+  fingers on one drive, the URDF's mimic joint; Rethink electric gripper: one motor).
+  Uncoupled, the finger that touches first pushes the part along the floor until the
+  other arrives, and a thin part ends up pinched at the pad's edge: measured with the
+  Panda on a Lack leg, one finger closed fully and the leg was squeezed out on lifting."""
+  (open0, closed0) = values[0]
+  for joint, (open_q, closed_q) in zip(joints[1:], values[1:]):
+    ratio = (closed_q - open_q) / (closed0 - open0)
+    mjcf_root.equality.add("joint", joint1=joint, joint2=joints[0],
+                           polycoef=(open_q - ratio * open0, ratio, 0, 0, 0),
+                           solref=_COUPLING_SOLREF, solimp=_COUPLING_SOLIMP)
 
 
 def command(open_qpos, closed_qpos, action):
