@@ -72,7 +72,11 @@ ROUND_GEOM_CONDIM = 6
 # 12 mm out of the Sawyer's pads in 4.5 s of carrying and was dropped (stool_square_pine,
 # seed 0). A large solmix makes the pad's impedance win over the part's when MuJoCo
 # mixes the two geoms' parameters.
-PAD_SOLIMP = (0.95, 0.99, 0.001, 0.5, 2.0)
+# MuJoCo's stable hard constraint: time constant two timesteps, impedance 0.95-0.99
+# (PHYSICS.md); the pads' impedance, the grippers' finger coupling and the Jaco's fingers.
+HARD_SOLREF = (2 * TIMESTEP, 1.0)
+HARD_SOLIMP = (0.95, 0.99, 0.001, 0.5, 2.0)
+PAD_SOLIMP = HARD_SOLIMP
 PAD_SOLMIX = 1000.0
 _ROUND_TYPES = (2, 3, 4, 5)   # mjGEOM_SPHERE, CAPSULE, ELLIPSOID, CYLINDER
 

@@ -12,15 +12,13 @@ import dataclasses
 
 import numpy as np
 
+from ikea_suite import physics_settings
 from ikea_suite.robots import robot_facts
 
 # Finger pads resist twisting of a held part (condim 4); their sliding friction
 # comes from the sheet's grip block (MuJoCo takes the larger of the two geoms').
 _PAD_TORSION, _PAD_ROLLING = 0.05, 0.0001
 _PAD_CONDIM = 4
-# The finger coupling is a gear train: as stiff as MuJoCo integrates stably (PHYSICS.md).
-_COUPLING_SOLREF = (0.004, 1.0)
-_COUPLING_SOLIMP = (0.95, 0.99, 0.001, 0.5, 2.0)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -154,7 +152,8 @@ def _couple(mjcf_root, joints, values):
     ratio = (closed_q - open_q) / (closed0 - open0)
     mjcf_root.equality.add("joint", joint1=joint, joint2=joints[0],
                            polycoef=(open_q - ratio * open0, ratio, 0, 0, 0),
-                           solref=_COUPLING_SOLREF, solimp=_COUPLING_SOLIMP)
+                           solref=physics_settings.HARD_SOLREF,   # a gear train: rigid
+                           solimp=physics_settings.HARD_SOLIMP)
 
 
 def command(open_qpos, closed_qpos, action):

@@ -28,7 +28,7 @@ _HAND_SHEET = "kinova_hand"
 # the effective mass, which at a finger is the light part's: with the default 20 ms
 # contacts the 1 N m fingers sank 8-17 mm into a 24 g leg (the Lack's at scale 0.5), and
 # the curved fingertips, that deep inside, pushed it down out of the hand.
-_FINGER_SOLREF = (2 * physics_settings.TIMESTEP, 1.0)
+_FINGER_SOLREF = physics_settings.HARD_SOLREF
 
 
 class Jaco(manipulator.Manipulator):
