@@ -4,8 +4,7 @@ With privileged state it picks the planner's next part, grasps it by
 friction, turns it so its connector meets the mate on the assembly, and
 issues connect, through the same action vector a learning agent sends
 (task_space mode: move, rotate, gripper, connect). It then lets go, backs
-off, and moves on to the next pair, so it can grow into full assembly; for
-now it connects parts whose mating connector the arm can reach.
+off, and moves on to the next pair until the furniture is whole.
 """
 
 import enum
@@ -15,6 +14,7 @@ import numpy as np
 from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.oracle import arm_motion
+from ikea_suite.oracle import sensing
 from ikea_suite.oracle import targets
 from ikea_suite.robots import control_modes
 from ikea_suite.tasks import planner
@@ -40,7 +40,7 @@ class ArmAssemblyController:
   """Call with a TimeStep (or nothing); returns the action for `env`."""
 
   def __init__(self, env, arm=0, hover=0.12, lift=0.12, carry=0.5, approach=0.08, tolerance=0.9,
-               close_steps=8, release_steps=6, stall_steps=150):
+               close_steps=8, release_steps=6, stall_steps=150, insert_steps=40):
     robot = env.task.robot
     if robot.control_mode != control_modes.TASK_SPACE:
       raise errors.IkeaSuiteError(
@@ -52,9 +52,8 @@ class ArmAssemblyController:
     close_steps = max(close_steps, int(np.ceil(
         robot.arms[arm].gripper.close_time / env.control_timestep())))
     self._close_steps, self._release_steps = close_steps, release_steps
-    self._stall_steps = stall_steps
+    self._stall_steps, self._insert_steps = stall_steps, insert_steps
     self._pad_below = None   # measured at the first grasp, with the arm at home
-    self._finger_bodies = None
     self._servo = arm_motion.PoseServo()
     # Carry and clearance heights count from the surface the parts lie on (floor or table top).
     self._surface = env.task.arena.support.height
@@ -70,8 +69,10 @@ class ArmAssemblyController:
     self._plan = None   # (pair, twist) the held part is brought to
     self._grasp_sign = 1.0   # which of the two symmetric grasps
     self._unreachable = set()   # parts the arm stalled on; skipped until the next connection
+    self._stalled_grasps = set()   # (part, grasp sign) the reach stalled on, till then too
     self._failed_plans = set()   # (pair, twist) the arm stalled on while carrying
     self._stalled = 0
+    self._inserting = 0   # control steps in the present INSERT
 
   @property
   def job(self):
@@ -117,14 +118,7 @@ class ArmAssemblyController:
 
   def closing_local(self):
     """The fingers' closing direction in the tool frame (unit, horizontal when pointing down)."""
-    physics = self._env.physics
-    fingers = self._robot.finger_positions(physics, self._arm)
-    _, rot = self._robot.tcp_pose(physics, self._arm)
-    # From the first finger to the middle of the others: across a parallel gripper's two,
-    # from the thumb to the opposing pair of a three-finger hand.
-    axis = rot.T @ (fingers[1:].mean(axis=0) - fingers[0])
-    axis[2] = 0.0
-    return axis / np.linalg.norm(axis)
+    return arm_motion.closing_axis(self._robot, self._env.physics, self._arm)
 
   def _grasp_pose(self, part, sign=None):
     """Tool pose at the part's grasp point: pointing down, fingers across its long axis."""
@@ -134,17 +128,15 @@ class ArmAssemblyController:
     bounds = furniture.spec.parts[part].bounds
     corners = geometry.box_corners(*bounds) @ part_rot.T + part_pos
     # As low as the fingertips allow (3 mm above the part's underside), so the pads
-    # cover as much of a thin part's height as they can; never above its centre.
+    # cover as much of a thin part's height as they can. A part thinner than that
+    # clearance is still gripped at its widest (the pads reach down past the tool
+    # centre); aiming lower pressed the fingertips into the floor, and a 13 mm leg's
+    # 6.5 mm centre stayed 7.5 mm short of the descent's 6 mm gate.
     if self._pad_below is None:
       self._pad_below = arm_motion.fingertip_reach(self._robot, self._env.physics, self._arm)
     point = point.copy()
-    point[2] = min(point[2], corners[:, 2].min() + self._pad_below + 0.003)
-    long_axis = part_rot[:, int(np.argmax(bounds[1] - bounds[0]))].copy()
-    long_axis[2] = 0.0
-    if np.linalg.norm(long_axis) < 1e-6:   # standing part: any horizontal closing axis
-      long_axis = np.array([1.0, 0.0, 0.0])
-    long_axis /= np.linalg.norm(long_axis)
-    closing = np.cross([0.0, 0.0, 1.0], long_axis) * (self._grasp_sign if sign is None else sign)
+    point[2] = corners[:, 2].min() + self._pad_below + 0.003
+    closing = targets.across_long_axis(part_rot, bounds) * (self._grasp_sign if sign is None else sign)
     return point, arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
 
   def _choose_grasp_sign(self, moving):
@@ -157,8 +149,10 @@ class ArmAssemblyController:
       grip = (part_rot.T @ (point - part_pos), part_rot.T @ rot)
       plan = self._plan_mating(moving, grip)
       # A grasp the last wrist joint cannot turn to stalls the reach before any mating.
+      # The other grasp first after this one stalled: the IK's local minimum (e.g. the
+      # Panda's last joint at its limit) tends to be met again from the same pose.
       score = self._reach_cost(point + [0.0, 0.0, self._hover], rot) + (
-          10.0 if plan is None else plan[0])
+          10.0 if plan is None else plan[0]) + 5.0 * ((moving, sign) in self._stalled_grasps)
       if best is None or score < best[0]:
         best = (score, sign)
     return best[1]
@@ -189,6 +183,7 @@ class ArmAssemblyController:
     groups = state.group_labels()
     base_pos, _ = robot.base_pose
     part_xy = task.furniture.part_poses(physics)[0][moving][:2]
+    centre, _ = targets.assembly_circle(physics, task.furniture, task.root_part)
     best = None
     for pair in np.flatnonzero(planner.open_pairs(table, state)):
       parts = {int(table.part[table.pair_a[pair]]), int(table.part[table.pair_b[pair]])}
@@ -205,7 +200,10 @@ class ArmAssemblyController:
         # A wrist folded in beside the base is cramped: the differential IK stalls there.
         wrist = goal_pos - 0.25 * goal_rot[:, 2]
         cramped = max(0.0, 0.45 - np.linalg.norm(wrist[:2] - base_pos[:2]))
-        score = (self._reach_cost(goal_pos, goal_rot) + 2.0 * cramped
+        # A hand reaching in from the middle of the assembly strikes the parts already on
+        # it and drags the assembly along: come in from outside.
+        inward = max(0.0, np.linalg.norm(goal_pos[:2] - centre) - np.linalg.norm(wrist[:2] - centre))
+        score = (self._reach_cost(goal_pos, goal_rot) + 2.0 * cramped + 2.0 * inward
                  + 0.3 * np.linalg.norm(goal_pos[:2] - part_xy))   # prefer mates nearby
         if best is None or score < best[0]:
           best = (score, int(pair), float(twist))
@@ -227,27 +225,8 @@ class ArmAssemblyController:
     return part_goal_pos + part_goal_rot @ grip_pos, part_goal_rot @ grip_rot
 
   def _holding(self, part):
-    """The part is near the tool and squeezed: between open fingers, or touching a finger
-    (a thin part can hold the fingers at their closed limit, opening 0)."""
-    physics, furniture = self._env.physics, self._env.task.furniture
-    part_pos = targets.grasp_point(physics, furniture, part)
-    tcp_pos, _ = self._robot.tcp_pose(physics, self._arm)
-    bounds = furniture.spec.parts[part].bounds
-    if np.linalg.norm(part_pos - tcp_pos) >= 0.6 * np.max(bounds[1] - bounds[0]):
-      return False
-    if self._robot.gripper_opening(physics, self._arm) > 0.05:
-      return True
-    model, data = physics.model, physics.data
-    body = furniture.body_ids[part]
-    if self._finger_bodies is None:
-      prefix = self._robot.mjcf_model.model + "/"
-      self._finger_bodies = {b for b in range(model.nbody)
-                             if model.body(b).name.startswith(prefix) and "finger" in model.body(b).name}
-    for contact in data.contact[:data.ncon]:
-      pair = {model.geom_bodyid[contact.geom1], model.geom_bodyid[contact.geom2]}
-      if body in pair and pair & self._finger_bodies:
-        return True
-    return False
+    return sensing.holding(self._env.physics, self._robot, self._arm,
+                           self._env.task.furniture, part)
 
   # -- the policy ------------------------------------------------------------------------
 
@@ -260,7 +239,7 @@ class ArmAssemblyController:
     if len(task.state.connections) != self._connections:
       self._connections = len(task.state.connections)
       self.phase, self._counter, self._stalled = Phase.RELEASE, 0, 0
-      self._unreachable, self._failed_plans = set(), set()
+      self._unreachable, self._failed_plans, self._stalled_grasps = set(), set(), set()
     if self._job is None or self.phase == Phase.REACH and self._counter == 0:
       self._job = self._choose_job()
       if self._job is None and self._unreachable and not task.state.complete:
@@ -284,6 +263,7 @@ class ArmAssemblyController:
       self._stalled += 1
       if self._stalled > self._stall_steps:   # cannot get there: try another part
         self._unreachable.add(moving)
+        self._stalled_grasps.add((moving, self._grasp_sign))
         self.phase, self._counter, self._stalled = Phase.RETREAT, 0, 0
         self._grasp = self._robot.home_tcp_poses()[arm]   # back home before the next part
         if len(self._unreachable) >= len(task.furniture.parts):
@@ -315,14 +295,24 @@ class ArmAssemblyController:
         self._plan, self._carrying = self._plan_mating(moving), True
         if self._plan is not None:
           self._plan = self._plan[1:]
+          self._root_at_plan = targets.part_pose(physics, task.furniture, task.root_part)[0]
         else:
           self.phase, self._counter = Phase.REACH, 0
           return action
       pair, twist = self._plan
       self._stalled += 1
-      if self._stalled > 2 * self._stall_steps:   # this mate is out of reach: plan another
+      # A mate out of reach stalls the carry; an insertion that has not attached within
+      # `insert_steps` (they take 8-12 steps), or a held part that has moved the root by
+      # 3 cm on its way down, pushes the light, scaled assembly out of reach (checked only
+      # after the carry: aborting carries dropped legs of tall tables on the assembly).
+      # Lift clear and plan another mate or twist.
+      self._inserting = self._inserting + 1 if phase == Phase.INSERT else 0
+      pushed = not self._carrying and np.linalg.norm(targets.part_pose(
+          physics, task.furniture, task.root_part)[0] - self._root_at_plan) > 0.03
+      if self._stalled > 2 * self._stall_steps or self._inserting > self._insert_steps or pushed:
         self._failed_plans.add((pair, twist))
-        self._plan, self._stalled = None, 0
+        self._plan, self._stalled, self._inserting = None, 0, 0
+        self.phase = Phase.ALIGN
         return action
       part_pos, part_rot, side = self._part_goal(pair, moving, twist)
       offset = self._approach if phase == Phase.ALIGN else 0.004
@@ -344,7 +334,7 @@ class ArmAssemblyController:
       angle = np.linalg.norm(geometry.mat_to_axis_angle(part_rot @ rot.T))
       if phase == Phase.ALIGN and distance < 0.01 and angle < 0.03:
         self.phase = Phase.INSERT
-      elif phase == Phase.INSERT and self._attachable(pair):
+      elif phase == Phase.INSERT and sensing.attachable(task, physics, pair, self._tolerance):
         self._plan = None
         action[-1] = 1.0
     elif phase == Phase.RELEASE:
@@ -354,21 +344,33 @@ class ArmAssemblyController:
         pos, rot = robot.tcp_pose(physics, arm)
         self._grasp = (pos - 0.1 * rot[:, 2] + [0.0, 0.0, 0.1], rot)
     elif phase == Phase.RETREAT:
-      poses[:] = self._servo(robot, physics, arm, *self._grasp)
+      poses[:] = self._servo(robot, physics, arm, self._arc_waypoint(self._over_assembly(
+          self._grasp[0])), self._grasp[1])
       self._counter += 1
       if arm_motion.pose_error(robot, physics, arm, *self._grasp)[0] < 0.03 or self._counter > 40:
         self.phase, self._counter = Phase.REACH, 0
     return action
 
   def _over_assembly(self, goal, near=0.06, clearance=0.08):
-    """`goal`, raised to pass over the growing assembly until the tool is above the goal.
+    """`goal`, raised to pass over the growing assembly until the tool is above the goal;
+    from below that height beside the assembly, straight up first.
 
     Travelling low, the hand sweeps into legs already standing on the root and drags
-    the whole (light, scaled) assembly out of reach.
+    the whole (light, scaled) assembly out of reach; rising while moving sideways, the
+    hand and forearm still struck them (Sawyer, seeds 0-4).
     """
     pos, _ = self._robot.tcp_pose(self._env.physics, self._arm)
     if np.linalg.norm(goal[:2] - pos[:2]) < near:
       return goal
+    task, physics = self._env.task, self._env.physics
+    safe = self._assembly_top() + clearance + (self._pad_below or 0.0)
+    centre, radius = targets.assembly_circle(physics, task.furniture, task.root_part)
+    if pos[2] < safe - 0.02 and np.linalg.norm(pos[:2] - centre) < radius + 0.15:
+      return np.array([pos[0], pos[1], safe])
+    return np.array([goal[0], goal[1], max(goal[2], safe)])
+
+  def _assembly_top(self):
+    """Height of the highest corner of the parts joined to the root (or of the surface)."""
     task, physics = self._env.task, self._env.physics
     positions, rotations = task.furniture.part_poses(physics)
     groups = task.state.group_labels()
@@ -377,21 +379,10 @@ class ArmAssemblyController:
       corners = (geometry.box_corners(*task.furniture.spec.parts[part].bounds)
                  @ rotations[part].T + positions[part])
       top = max(top, corners[:, 2].max())
-    return np.array([goal[0], goal[1], max(goal[2], top + clearance + self._pad_below_or_zero())])
-
-  def _pad_below_or_zero(self):
-    return self._pad_below or 0.0
+    return top
 
   def _arc_waypoint(self, goal):
     """A point on an arc around the base towards `goal`: carrying never sweeps across the base."""
     base, base_rot = self._robot.base_pose
     pos, _ = self._robot.tcp_pose(self._env.physics, self._arm)
     return arm_motion.arc_waypoint(base, pos, goal, heading=np.arctan2(base_rot[1, 0], base_rot[0, 0]))
-
-  def _attachable(self, pair):
-    task = self._env.task
-    scores, t = task.alignment(self._env.physics), task.thresholds
-    tol = self._tolerance
-    return bool(scores.distance[pair] < tol * t.distance
-                and scores.up_cos[pair] > 1 - tol * (1 - t.up_cos)
-                and scores.forward_cos[pair] > 1 - tol * (1 - t.forward_cos))

@@ -38,6 +38,17 @@ def fingertip_reach(robot, physics, arm, samples=13):
   return farthest
 
 
+def closing_axis(robot, physics, arm):
+  """The fingers' closing direction in the tool frame (unit, horizontal when pointing down):
+  from the first finger to the middle of the others, i.e. across a parallel gripper's two,
+  from the thumb to the opposing pair of a three-finger hand."""
+  fingers = robot.finger_positions(physics, arm)
+  _, rot = robot.tcp_pose(physics, arm)
+  axis = rot.T @ (fingers[1:].mean(axis=0) - fingers[0])
+  axis[2] = 0.0
+  return axis / np.linalg.norm(axis)
+
+
 def tool_rotation(approach, closing, closing_local):
   """Tool rotation whose z axis is `approach` and whose finger axis (`closing_local`) is `closing`."""
   local_b = np.cross([0.0, 0.0, 1.0], closing_local)

@@ -21,6 +21,16 @@ def grasp_point(physics, furniture, part):
   return data.geom_xpos[g] + data.geom_xmat[g].reshape(3, 3) @ model.geom_aabb[g, :3]
 
 
+def across_long_axis(part_rot, bounds):
+  """The horizontal unit vector across a part's long axis as it lies: the direction a
+  top-down grasp closes the fingers along (any, for a part standing on end)."""
+  long_axis = part_rot[:, int(np.argmax(bounds[1] - bounds[0]))].copy()
+  long_axis[2] = 0.0
+  if np.linalg.norm(long_axis) < 1e-6:
+    long_axis = np.array([1.0, 0.0, 0.0])
+  return np.cross([0.0, 0.0, 1.0], long_axis / np.linalg.norm(long_axis))
+
+
 def design_to_world(physics, furniture, root):
   """The rigid map (rotation, translation) taking the design frame to where the root is now."""
   spec = furniture.spec.parts[root]

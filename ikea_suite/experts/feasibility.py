@@ -1,0 +1,111 @@
+"""Which parts a robot's gripper can take as they lie, and so which furniture its expert
+cannot assemble whatever its luck.
+
+The single-arm expert takes a part from above, fingers closing across the part's long
+axis (oracle/targets.across_long_axis). That needs the part's width along the closing
+direction to be less than the open fingers' gap and more than the closed fingers' gap:
+a wider part does not fit between them, and a thinner one is never squeezed (it hangs
+between fingers stopped at their closed limit and falls at the first swing). Panels,
+seats and discs lying flat fail the first test; the Sawyer's 13 mm closed gap fails the
+second for thin metal legs at half scale. The root part stays on the floor and is
+never picked up.
+"""
+
+import dataclasses
+
+import mujoco
+import numpy as np
+
+from ikea_suite import geometry
+from ikea_suite.oracle import targets
+from ikea_suite.robots import grippers
+
+
+@dataclasses.dataclass(frozen=True)
+class GraspProblem:
+  part: str
+  width: float   # m across the fingers, as the part lies
+  gap: tuple     # (closed, open) finger gap of the gripper, m
+
+  def __str__(self):
+    closed, opened = self.gap
+    side = "wider than the open" if self.width >= opened else "narrower than the closed"
+    return (f"{self.part}: {1000 * self.width:.0f} mm across the fingers, {side} "
+            f"fingers' gap ({1000 * closed:.0f}-{1000 * opened:.0f} mm)")
+
+
+def finger_gap(physics, robot, arm=0, fraction=1.0):
+  """Smallest distance (m) between the first finger's tip and the other fingers' tips,
+  with the fingers `fraction` of the way from open (0) to closed (1). Read on a scratch
+  copy of the state; nothing moves."""
+  model = physics.model
+  gripper = robot.arms[arm].gripper
+  data = mujoco.MjData(model.ptr)
+  data.qpos[:] = physics.data.qpos
+  qposadr = np.asarray(physics.bind(gripper.joints).qposadr)
+  data.qpos[qposadr] = gripper.open_qpos + fraction * (gripper.closed_qpos - gripper.open_qpos)
+  mujoco.mj_kinematics(model.ptr, data)
+  finger = grippers.finger_of_body(physics, [robot.finger_body_ids[arm]])[0]
+  geoms = [g for g in range(model.ngeom) if model.geom_contype[g] and finger[model.geom_bodyid[g]] >= 0]
+  # The fingertips take a part lying on the floor: only geoms within 2 cm of the deepest
+  # along the approach axis (the Sawyer's knuckles meet, 13 mm above its open tips).
+  tcp = int(physics.bind(gripper.tcp_site).element_id)
+  depth = (data.geom_xpos[geoms] - data.site_xpos[tcp]) @ data.site_xmat[tcp].reshape(3, 3)[:, 2]
+  geoms = [g for g, d in zip(geoms, depth) if d > depth.max() - 0.02]
+  first = [g for g in geoms if finger[model.geom_bodyid[g]] == 0]
+  others = [g for g in geoms if finger[model.geom_bodyid[g]] > 0]
+  return min(mujoco.mj_geomDistance(model.ptr, data, a, b, 1.0, None)
+             for a in first for b in others)
+
+
+def grasp_width(env, part):
+  """The part's width (m) along the direction a top-down grasp closes on it, as it lies."""
+  furniture = env.task.furniture
+  _, rot = targets.part_pose(env.physics, furniture, part)
+  bounds = furniture.spec.parts[part].bounds
+  corners = geometry.box_corners(*bounds) @ rot.T
+  return float(np.ptp(corners @ targets.across_long_axis(rot, bounds)))
+
+
+def grasp_problems(env, arm=0, clearance=0.01):
+  """GraspProblems of every part but the root, as `env`'s parts lie now (after reset).
+
+  A part fits when it is wider than the closed fingers' gap and leaves `clearance`
+  (5 mm a side, the expert's descent tolerance) within the open fingers' gap.
+  """
+  robot, physics = env.task.robot, env.physics
+  gap = (finger_gap(physics, robot, arm, 1.0), finger_gap(physics, robot, arm, 0.0))
+  out = []
+  for part, spec in enumerate(env.task.furniture.spec.parts):
+    if part != env.task.root_part:
+      width = grasp_width(env, part)
+      if not gap[0] < width < gap[1] - clearance:
+        out.append(GraspProblem(spec.name, width, gap))
+  return out
+
+
+def main(argv=None):
+  """Prints, per catalog model, whether `--robot`'s gripper can take every loose part."""
+  import argparse
+  import ikea_suite
+  from ikea_suite.props import catalog
+  from ikea_suite.robots import registry
+  parser = argparse.ArgumentParser(description=main.__doc__)
+  parser.add_argument("--robot", default="sawyer")
+  parser.add_argument("--scale", type=float, default=None, help="default: the robot's WORK_SCALE")
+  parser.add_argument("--models", nargs="+", default=None)
+  args = parser.parse_args(argv)
+  scale = args.scale or registry.get(args.robot).factory.WORK_SCALE
+  fits = 0
+  for name in args.models or catalog.names():
+    env = ikea_suite.load(name, args.robot, scale=scale, seed=0)
+    env.reset()
+    problems = grasp_problems(env)
+    fits += not problems
+    print(f"{name:40s} " + ("every loose part fits the gripper" if not problems
+                            else f"{len(problems)} parts do not fit; {problems[0]}"), flush=True)
+  print(f"{fits} models fit the {args.robot}'s gripper at scale {scale:g}")
+
+
+if __name__ == "__main__":
+  main()

@@ -1,0 +1,29 @@
+"""What a scripted arm reads from privileged state: whether it holds a part (where the
+part is relative to the tool, how far the fingers stand open, what they touch) and
+whether a connector pair is aligned well within the task's thresholds."""
+
+import numpy as np
+
+from ikea_suite.oracle import targets
+
+
+def holding(physics, robot, arm, furniture, part):
+  """The part is near the tool and squeezed: between fingers that stay apart, or touched
+  by two fingers (the robot's own test), since a thin part can hold the fingers at their
+  closed limit, opening 0."""
+  part_pos = targets.grasp_point(physics, furniture, part)
+  tcp_pos, _ = robot.tcp_pose(physics, arm)
+  bounds = furniture.spec.parts[part].bounds
+  if np.linalg.norm(part_pos - tcp_pos) >= 0.6 * np.max(bounds[1] - bounds[0]):
+    return False
+  if robot.gripper_opening(physics, arm) > 0.05:
+    return True
+  return bool(robot.held_parts_by_tool(physics, [furniture.body_ids[part]])[arm, 0])
+
+
+def attachable(task, physics, pair, tolerance):
+  """The pair's distance and angles are within `tolerance` (e.g. 0.9) of the thresholds."""
+  scores, t = task.alignment(physics), task.thresholds
+  return bool(scores.distance[pair] < tolerance * t.distance
+              and scores.up_cos[pair] > 1 - tolerance * (1 - t.up_cos)
+              and scores.forward_cos[pair] > 1 - tolerance * (1 - t.forward_cos))

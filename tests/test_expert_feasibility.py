@@ -1,0 +1,35 @@
+"""experts.feasibility: which loose parts a gripper can take from above, as they lie."""
+
+import pytest
+
+import ikea_suite
+from ikea_suite.experts import feasibility
+
+
+def _env(furniture, robot):
+  env = ikea_suite.load(furniture, robot, scale=0.5, seed=0)
+  env.reset()
+  return env
+
+
+def test_sawyer_tips_open_wider_than_they_close():
+  env = _env("stool_round_frosta", "sawyer")
+  closed = feasibility.finger_gap(env.physics, env.task.robot, 0, 1.0)
+  opened = feasibility.finger_gap(env.physics, env.task.robot, 0, 0.0)
+  # Rethink's fact sheet: 2 x 32.3 mm of finger travel between the joint limits.
+  assert opened - closed == pytest.approx(2 * (0.020833 + 0.0115), abs=0.002)
+  assert 0.010 < closed < 0.020   # the fingertips stop short of touching
+
+
+def test_slender_legs_fit_and_a_flat_seat_does_not():
+  assert feasibility.grasp_problems(_env("stool_round_frosta", "sawyer")) == []
+  problems = feasibility.grasp_problems(_env("stool_pedestal_white", "panda"))
+  assert [p.part for p in problems] == ["seat"]
+  assert "wider than the open" in str(problems[0])
+
+
+def test_legs_thinner_than_the_closed_sawyer_fingers_are_named():
+  problems = feasibility.grasp_problems(_env("stool_round_black_metal", "sawyer"))
+  assert sorted(p.part for p in problems) == ["leg0", "leg1", "leg2", "leg3"]
+  assert "narrower than the closed" in str(problems[0])
+  assert feasibility.grasp_problems(_env("stool_round_black_metal", "panda")) == []
