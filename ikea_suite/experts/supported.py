@@ -10,9 +10,14 @@ lists are in the README ("Scripted experts").
 # robot -> {furniture: scale}
 SUPPORTED = {
     "cursor": None,   # the Cursor oracle: every catalog model at full size
-    # Fresh seeds 1000-1009 (README, "Expert sweep"): stool_round_frosta 9/10.
-    "sawyer": {"stool_round_frosta": 0.5},
-    "panda": {},
+    # Fresh seeds 1000-1009 after the 2026-11-25 controller changes (README, "Expert sweep").
+    "sawyer": {"stool_round_bar_birch": 0.5,      # 9/10
+               "stool_round_frosta": 0.5,         # 8/10
+               "stool_round_low_white": 0.5,      # 8/10
+               "stool_square_pine": 0.5,          # 9/10
+               "table_four_leg_side_oak": 0.5,    # 8/10
+               "table_four_leg_w75_black": 0.5},  # 9/10
+    "panda": {"table_four_leg_side_oak": 0.5},    # 8/10
     "baxter": {},
     "jaco": {},
 }
