@@ -17,8 +17,8 @@ import mujoco
 import numpy as np
 
 from ikea_suite import geometry
+from ikea_suite.oracle import arm_motion
 from ikea_suite.oracle import targets
-from ikea_suite.robots import grippers
 
 
 @dataclasses.dataclass(frozen=True)
@@ -26,34 +26,31 @@ class GraspProblem:
   part: str
   width: float   # m across the fingers, as the part lies
   gap: tuple     # (closed, open) finger gap of the gripper, m
+  clearance: float = 0.0   # room the open fingers must leave, m
 
   def __str__(self):
     closed, opened = self.gap
-    side = "wider than the open" if self.width >= opened else "narrower than the closed"
+    side = "narrower than the closed" if self.width <= closed else "wider than the open"
+    spare = (f" less {500 * self.clearance:.0f} mm a side"
+             if self.width > closed and self.width < opened else "")
     return (f"{self.part}: {1000 * self.width:.0f} mm across the fingers, {side} "
-            f"fingers' gap ({1000 * closed:.0f}-{1000 * opened:.0f} mm)")
+            f"fingers' gap ({1000 * closed:.0f}-{1000 * opened:.0f} mm){spare}")
 
 
 def finger_gap(physics, robot, arm=0, fraction=1.0):
   """Smallest distance (m) between the first finger's tip and the other fingers' tips,
   with the fingers `fraction` of the way from open (0) to closed (1). Read on a scratch
   copy of the state; nothing moves."""
-  model = physics.model
-  gripper = robot.arms[arm].gripper
-  data = mujoco.MjData(model.ptr)
-  data.qpos[:] = physics.data.qpos
-  qposadr = np.asarray(physics.bind(gripper.joints).qposadr)
-  data.qpos[qposadr] = gripper.open_qpos + fraction * (gripper.closed_qpos - gripper.open_qpos)
-  mujoco.mj_kinematics(model.ptr, data)
-  finger = grippers.finger_of_body(physics, [robot.finger_body_ids[arm]])[0]
-  geoms = [g for g in range(model.ngeom) if model.geom_contype[g] and finger[model.geom_bodyid[g]] >= 0]
+  poser = arm_motion.FingerPoser(robot, physics, arm)
+  poser.set(fraction)
+  model, data = poser.model, poser.data
   # The fingertips take a part lying on the floor: only geoms within 2 cm of the deepest
   # along the approach axis (the Sawyer's knuckles meet, 13 mm above its open tips).
-  tcp = int(physics.bind(gripper.tcp_site).element_id)
-  depth = (data.geom_xpos[geoms] - data.site_xpos[tcp]) @ data.site_xmat[tcp].reshape(3, 3)[:, 2]
-  geoms = [g for g, d in zip(geoms, depth) if d > depth.max() - 0.02]
-  first = [g for g in geoms if finger[model.geom_bodyid[g]] == 0]
-  others = [g for g in geoms if finger[model.geom_bodyid[g]] > 0]
+  tcp_pos, approach = poser.tcp()
+  depth = (data.geom_xpos[poser.geoms] - tcp_pos) @ approach
+  tips = [g for g, d in zip(poser.geoms, depth) if d > depth.max() - 0.02]
+  first = [g for g in tips if poser.finger_of_geom[g] == 0]
+  others = [g for g in tips if poser.finger_of_geom[g] > 0]
   return min(mujoco.mj_geomDistance(model.ptr, data, a, b, 1.0, None)
              for a in first for b in others)
 
@@ -80,7 +77,7 @@ def grasp_problems(env, arm=0, clearance=0.01):
     if part != env.task.root_part:
       width = grasp_width(env, part)
       if not gap[0] < width < gap[1] - clearance:
-        out.append(GraspProblem(spec.name, width, gap))
+        out.append(GraspProblem(spec.name, width, gap, clearance))
   return out
 
 

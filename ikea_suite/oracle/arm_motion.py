@@ -5,33 +5,51 @@ import mujoco
 import numpy as np
 
 from ikea_suite import geometry
+from ikea_suite.robots import grippers
+
+
+class FingerPoser:
+  """A scratch copy of the state in which one arm's fingers can be set to any opening
+  (0 open, 1 closed) and its finger collision geoms read; the simulation is untouched."""
+
+  def __init__(self, robot, physics, arm):
+    model = physics.model
+    self.model, self.gripper = model, robot.arms[arm].gripper
+    self.data = mujoco.MjData(model.ptr)
+    self.data.qpos[:] = physics.data.qpos
+    self._qposadr = np.asarray(physics.bind(self.gripper.joints).qposadr)
+    self.tcp_site = int(physics.bind(self.gripper.tcp_site).element_id)
+    finger = grippers.finger_of_body(physics, [robot.finger_body_ids[arm]])[0]
+    self.geoms = [g for g in range(model.ngeom)
+                  if model.geom_contype[g] and finger[model.geom_bodyid[g]] >= 0]
+    self.finger_of_geom = {g: int(finger[model.geom_bodyid[g]]) for g in self.geoms}
+
+  def set(self, fraction):
+    g = self.gripper
+    self.data.qpos[self._qposadr] = g.open_qpos + fraction * (g.closed_qpos - g.open_qpos)
+    mujoco.mj_kinematics(self.model.ptr, self.data)
+
+  def tcp(self):
+    """(position, approach axis) of the tool-centre point in the scratch state."""
+    return self.data.site_xpos[self.tcp_site], self.data.site_xmat[self.tcp_site].reshape(3, 3)[:, 2]
 
 
 def fingertip_reach(robot, physics, arm, samples=13):
   """How far the fingertips reach beyond the tool-centre point along the approach axis (m).
 
   Read from the compiled model with the arm in its present pose, over the fingers'
-  whole stroke (on a scratch copy of the state): the farthest corner of any finger
-  collision geom's bounding box, relative to the TCP. Slide fingers reach equally far
-  at every opening; curling ones (the Jaco's hinged fingers) reach farthest part way
-  closed, and that depth is what must stay clear of the floor while they close.
+  whole stroke (FingerPoser): the farthest corner of any finger collision geom's
+  bounding box, relative to the TCP. Slide fingers reach equally far at every
+  opening; curling ones (the Jaco's hinged fingers) reach farthest part way closed,
+  and that depth is what must stay clear of the floor while they close.
   """
-  model = physics.model
-  gripper = robot.arms[arm].gripper
-  data = mujoco.MjData(model.ptr)
-  data.qpos[:] = physics.data.qpos
-  finger_qpos = np.asarray(physics.bind(gripper.joints).qposadr)
-  tcp_site = int(physics.bind(gripper.tcp_site).element_id)
-  prefix = robot.mjcf_model.model + "/"
-  geoms = [g for g in range(model.ngeom) if model.geom_contype[g]
-           and model.body(model.geom_bodyid[g]).name.startswith(prefix)
-           and "finger" in model.body(model.geom_bodyid[g]).name]
+  poser = FingerPoser(robot, physics, arm)
+  model, data = poser.model, poser.data
   farthest = 0.0
   for fraction in np.linspace(0.0, 1.0, samples):
-    data.qpos[finger_qpos] = gripper.open_qpos + fraction * (gripper.closed_qpos - gripper.open_qpos)
-    mujoco.mj_kinematics(model.ptr, data)
-    tcp_pos, approach = data.site_xpos[tcp_site], data.site_xmat[tcp_site].reshape(3, 3)[:, 2]
-    for g in geoms:
+    poser.set(fraction)
+    tcp_pos, approach = poser.tcp()
+    for g in poser.geoms:
       corners = geometry.box_corners(-model.geom_aabb[g, 3:], model.geom_aabb[g, 3:])
       world = data.geom_xpos[g] + (corners + model.geom_aabb[g, :3]) @ data.geom_xmat[g].reshape(3, 3).T
       farthest = max(farthest, float(((world - tcp_pos) @ approach).max()))
