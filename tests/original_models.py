@@ -27,17 +27,18 @@ def _meshes(directory, name):
   trimesh.creation.box(extents=(1, 1, 1)).export(folder / "unit.stl")      # scaled per axis
 
 
-def _leg(i, pos, quat="1 0 0 0", extra_site="", site_shift=0.0):
+def _leg(i, pos, quat="1 0 0 0", extra_site="", site_shift=0.0, density=500):
   return f"""
     <body name="leg{i}" pos="{pos}" quat="{quat}">
       <geom name="leg{i}_mesh" type="mesh" mesh="leg" material="wood" contype="0" conaffinity="0" density="0"/>
-      <geom name="noviz_collision_leg{i}_0" type="box" size="0.02 0.02 0.2" rgba="0 0 0 0" density="500"/>
+      <geom name="noviz_collision_leg{i}_0" type="box" size="0.02 0.02 0.2" rgba="0 0 0 0" density="{density}"/>
       <site name="leg-table,0,90,180,270,conn_site{i}" pos="0 0 {LEG_HALF + site_shift}" quat="{DOWN}" size="0.01"/>
       <site name="leg{i}_bottom_site" pos="0 0 -{LEG_HALF}" size="0.01"/>{extra_site}
     </body>"""
 
 
-def table(directory, name="table_test", assembled=True, quirks=False, site_shifts=None):
+def table(directory, name="table_test", assembled=True, quirks=False, site_shifts=None,
+          leg_density=500):
   """A 55 cm side table: a top and four legs, each leg mating any corner of the top.
 
   Args:
@@ -50,6 +51,7 @@ def table(directory, name="table_test", assembled=True, quirks=False, site_shift
     site_shifts: {leg index: metres} moves those legs' connector sites along the leg
       (up: the leg stops short of the top, a gap; down: it pokes into the top), as
       the original's files sometimes place them.
+    leg_density: the legs' density in kg/m^3 (some of the original's files give 5).
 
   Returns:
     The XML path.
@@ -70,7 +72,7 @@ def table(directory, name="table_test", assembled=True, quirks=False, site_shift
       pos = f"{x * 1.4 + 0.03 * i} {y * 1.2} {LEG_HALF + 0.02 * i}"
       quat = "0 1 0 0" if i == 2 else "0.9962 0 0 0.0872"
     extra = '\n      <site name="leg-shelf,conn_site9" pos="0 0 0" size="0.01"/>' if quirks and i == 3 else ""
-    legs.append(_leg(i, pos, quat, extra, (site_shifts or {}).get(i, 0.0)))
+    legs.append(_leg(i, pos, quat, extra, (site_shifts or {}).get(i, 0.0), leg_density))
   welds = ""
   if quirks:
     welds = """

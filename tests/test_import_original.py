@@ -121,6 +121,21 @@ def test_masses_come_from_the_original_or_from_our_material_table(tmp_path):
     convert.convert(source, tmp_path / "x", material="oak")
 
 
+def test_placeholder_masses_are_replaced_by_particleboard_and_reported(tmp_path):
+  source = original_models.table(tmp_path, leg_density=5)   # a 40 cm leg of 3.2 g
+  result = convert.convert(source, tmp_path / "repaired")
+  masses = _masses(result.path)
+  density = convert.material_density("particleboard")
+  assert masses["leg0"] == pytest.approx(0.04 * 0.04 * 0.4 * density)
+  assert masses["top"] == pytest.approx(0.6 * 0.6 * 0.04 * density)   # every part alike
+  repair, = [n for n in result.notes if n.startswith("masses repaired")]
+  assert "4 of 5 parts" in repair and "'leg0' weighs 3.2 g" in repair
+  chosen = convert.convert(source, tmp_path / "birch", material="solid birch")
+  assert not any(n.startswith("masses repaired") for n in chosen.notes)
+  assert _masses(chosen.path)["leg0"] == pytest.approx(
+      0.04 * 0.04 * 0.4 * convert.material_density("solid birch"))
+
+
 def test_mesh_collision_parts_collide_through_their_mesh_or_coacd_pieces(tmp_path):
   result = convert.convert(original_models.stool_with_mesh_collision(tmp_path), tmp_path / "out")
   model = mujoco.MjModel.from_xml_path(str(result.path))

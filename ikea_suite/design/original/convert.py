@@ -11,7 +11,9 @@ nearest catalog material; textures are not carried over.
 Mass: by default each part keeps the original's mass (what MuJoCo computes
 from the original's densities and masses), spread over our collision geoms
 in proportion to the original densities. With `material`, every collision
-geom takes that material's density from our material table instead.
+geom takes that material's density from our material table instead; so does
+every part, with particleboard's, when any part of the file is lighter than
+any furniture material (a placeholder mass; the repair is reported).
 
 Layout: the parts take the assembled pose solved by `assemble`, each mated
 part slid along its mate's up axis until it touches its partner (`seat`), set on the
@@ -106,11 +108,38 @@ def _primitive_corners(kind, size):
   return geometry.box_corners(-np.asarray(half, float), half)
 
 
+# The lightest furniture material, honeycomb board, is 150-300 kg/m^3 effective (PHYSICS.md);
+# a part lighter than this over its collision volume carries a placeholder mass.
+IMPLAUSIBLE_DENSITY = 100.0
+
+
 class _Converter:
   def __init__(self, model, material):
     self.model, self.material = model, material
     self.notes = list(model.repairs)
     self.mesh_cache = {}
+    self.mass_repair = None   # what every part is made of when the file's masses are not real
+
+  def repair_masses(self, parts):
+    """Gives every part particleboard's density when any part of the file is lighter than
+    any furniture material (some of the original's files weigh a leg at 1.2 g: MuJoCo's
+    contacts then let it sink and the model drifts). `parts`: (body, name, part_geoms)."""
+    if self.material is not None:
+      return
+    light = []
+    for body, part_name, geoms in parts:
+      volume = sum(v for _, base, v in geoms if base is not None)
+      mass = self.original_mass(body)
+      if volume > 0 and 0 < mass < IMPLAUSIBLE_DENSITY * volume:
+        light.append((mass / volume, mass, part_name))
+    if light:
+      density, mass, part_name = min(light)
+      self.mass_repair = construction.PARTICLEBOARD
+      self.notes.append(
+          f"masses repaired: {len(light)} of {len(parts)} parts are lighter than any furniture "
+          f"material (under {IMPLAUSIBLE_DENSITY:g} kg/m^3; part {part_name!r} weighs "
+          f"{mass * 1000:.1f} g, {density:.0f} kg/m^3), so every part is given particleboard's "
+          f"{construction.PARTICLEBOARD.density:g} kg/m^3 (--material chooses another)")
 
   def mesh(self, name, label):
     if name in self.mesh_cache:
@@ -208,9 +237,10 @@ class _Converter:
 
   def set_densities(self, part_name, body, geoms):
     colliding = [(geom, base, volume) for geom, base, volume in geoms if base is not None]
-    if self.material is not None:
+    if self.material is not None or self.mass_repair is not None:
+      chosen = self.mass_repair or construction.BY_NAME[self.material]
       for geom, _, _ in colliding:
-        geom.construction = construction.BY_NAME[self.material]
+        geom.construction = chosen
       return
     target = self.original_mass(body)
     weighted = sum(base * volume for _, base, volume in colliding)
@@ -284,9 +314,10 @@ def convert(source: str | pathlib.Path, out_dir: str | pathlib.Path, material: s
   name = names.safe(model.path.stem).lower()
   furniture = bp.Blueprint(name, category, FAMILY, name, f"converted from {model.path.name}")
   furniture.metadata["source"] = model.path.name
-  for body in model.bodies:
-    part_name = part_names[body.name]
-    geoms = converter.part_geoms(furniture, part_name, body)
+  parts = [(body, part_names[body.name],
+            converter.part_geoms(furniture, part_names[body.name], body)) for body in model.bodies]
+  converter.repair_masses(parts)
+  for body, part_name, geoms in parts:
     converter.set_densities(part_name, body, geoms)
     pos, rot = solved.poses[body.name]
     part = furniture.add_part(part_name, pos, rot, [g for g, _, _ in geoms])
