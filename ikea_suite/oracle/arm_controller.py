@@ -14,6 +14,7 @@ import numpy as np
 from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.oracle import arm_motion
+from ikea_suite.oracle import clearance
 from ikea_suite.oracle import sensing
 from ikea_suite.oracle import targets
 from ikea_suite.robots import control_modes
@@ -34,6 +35,7 @@ class Phase(enum.Enum):
   INSERT = "insert"     # close the last gap and connect
   RELEASE = "release"   # open the gripper on the joined part
   RETREAT = "retreat"   # back off before the next part
+  PUT_BACK = "put_back"   # set a part down where it was taken, to take it another way
 
 
 class ArmAssemblyController:
@@ -54,13 +56,16 @@ class ArmAssemblyController:
     self._close_steps, self._release_steps = close_steps, release_steps
     self._stall_steps, self._insert_steps = stall_steps, insert_steps
     self._pad_below = None   # measured at the first grasp, with the arm at home
-    self._servo = arm_motion.PoseServo()
     # Carry and clearance heights count from the surface the parts lie on (floor or table top).
     self._surface = env.task.arena.support.height
+    self._clearance = clearance.AssemblyClearance(env, arm, self._surface)
+    self._servo = arm_motion.PoseServo()
+    self._carry_watch = arm_motion.ProgressWatch(window=80)
     self.reset()
 
   def reset(self):
     self._servo.reset()
+    self._clearance.reset()
     self.phase = Phase.REACH
     self._counter = 0
     self._connections = 0
@@ -71,6 +76,7 @@ class ArmAssemblyController:
     self._unreachable = set()   # parts the arm stalled on; skipped until the next connection
     self._stalled_grasps = set()   # (part, grasp sign) the reach stalled on, till then too
     self._failed_plans = set()   # (pair, twist) the arm stalled on while carrying
+    self._carry_stalls = {}   # part: carries that stalled, till the next connection
     self._stalled = 0
     self._inserting = 0   # control steps in the present INSERT
 
@@ -134,6 +140,7 @@ class ArmAssemblyController:
     # 6.5 mm centre stayed 7.5 mm short of the descent's 6 mm gate.
     if self._pad_below is None:
       self._pad_below = arm_motion.fingertip_reach(self._robot, self._env.physics, self._arm)
+      self._clearance.pad_below = self._pad_below
     point = point.copy()
     point[2] = corners[:, 2].min() + self._pad_below + 0.003
     closing = targets.across_long_axis(part_rot, bounds) * (self._grasp_sign if sign is None else sign)
@@ -156,20 +163,6 @@ class ArmAssemblyController:
       if best is None or score < best[0]:
         best = (score, sign)
     return best[1]
-
-  def _part_goal(self, pair, moving, twist):
-    """Pose of `moving` that makes the pair's connectors coincide at `twist`; plus approach side."""
-    physics, furniture = self._env.physics, self._env.task.furniture
-    table = furniture.connectors
-    con_a, con_b = table.pair_a[pair], table.pair_b[pair]
-    moving_con = con_a if table.part[con_a] == moving else con_b
-    positions, rotations = furniture.part_poses(physics)
-    cpos, crot = table.world_frames(positions, rotations)
-    frame_pos, frame_rot = table.mated_frame(pair, moving_con, cpos, crot, twist)
-    rot = frame_rot @ table.local_rot[moving_con].T
-    pos = frame_pos - rot @ table.local_pos[moving_con]
-    side = pos - frame_pos
-    return pos, rot, side / max(np.linalg.norm(side), 1e-6)
 
   def _plan_mating(self, moving, grip=None):
     """(score, pair, twist) for the held part: the mate and twist the arm reaches best.
@@ -194,7 +187,8 @@ class ArmAssemblyController:
       for twist in twists:
         if (int(pair), float(twist)) in self._failed_plans:
           continue
-        part_pos, part_rot, side = self._part_goal(pair, moving, twist)
+        part_pos, part_rot, side = targets.mated_part_pose(
+            physics, task.furniture, pair, moving, twist)
         goal_pos, goal_rot = self._tool_goal_for_part(
             moving, part_pos + self._approach * side, part_rot, grip)
         # A wrist folded in beside the base is cramped: the differential IK stalls there.
@@ -240,6 +234,7 @@ class ArmAssemblyController:
       self._connections = len(task.state.connections)
       self.phase, self._counter, self._stalled = Phase.RELEASE, 0, 0
       self._unreachable, self._failed_plans, self._stalled_grasps = set(), set(), set()
+      self._carry_stalls = {}
     if self._job is None or self.phase == Phase.REACH and self._counter == 0:
       self._job = self._choose_job()
       if self._job is None and self._unreachable and not task.state.complete:
@@ -252,11 +247,13 @@ class ArmAssemblyController:
       return action
     pair, moving = self._job if self._job else (None, None)
     phase = self.phase
-    action[grip] = 1.0 if phase in (Phase.CLOSE, Phase.LIFT, Phase.ALIGN, Phase.INSERT) else -1.0
+    action[grip] = 1.0 if phase in (Phase.CLOSE, Phase.LIFT, Phase.ALIGN, Phase.INSERT,
+                                    Phase.PUT_BACK) else -1.0
     if phase in (Phase.REACH, Phase.DESCEND):
       point, rot = self._grasp_pose(moving)
       goal = point + [0.0, 0.0, self._hover] if phase == Phase.REACH else point
-      waypoint = self._arc_waypoint(self._over_assembly(goal)) if phase == Phase.REACH else goal
+      route = self._clearance
+      waypoint = route.arc_waypoint(route.over_assembly(goal)) if phase == Phase.REACH else goal
       poses[:] = self._servo(robot, physics, arm, waypoint, rot,
                              gain=1.0 if phase == Phase.REACH else DESCEND_GAIN)
       distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
@@ -293,6 +290,7 @@ class ArmAssemblyController:
         return action
       if self._plan is None:
         self._plan, self._carrying = self._plan_mating(moving), True
+        self._carry_watch.reset()
         if self._plan is not None:
           self._plan = self._plan[1:]
           self._root_at_plan = targets.part_pose(physics, task.furniture, task.root_part)[0]
@@ -314,16 +312,21 @@ class ArmAssemblyController:
         self._plan, self._stalled, self._inserting = None, 0, 0
         self.phase = Phase.ALIGN
         return action
-      part_pos, part_rot, side = self._part_goal(pair, moving, twist)
+      part_pos, part_rot, side = targets.mated_part_pose(
+          physics, task.furniture, pair, moving, twist)
       offset = self._approach if phase == Phase.ALIGN else 0.004
       goal = self._tool_goal_for_part(moving, part_pos + offset * side, part_rot)
       if self._carrying:   # first over the goal at carry height, then down to it
         high = goal[0] + [0.0, 0.0, max(0.0, self._surface + self._carry - goal[0][2])]
         # Turning slowly keeps a held part from swinging out of the fingers.
-        poses[:] = self._servo(robot, physics, arm, self._arc_waypoint(high), goal[1],
+        poses[:] = self._servo(robot, physics, arm, self._clearance.arc_waypoint(high), goal[1],
                                           max_turn=0.3)
         distance, angle = arm_motion.pose_error(robot, physics, arm, high, goal[1])
         self._carrying = not (distance < 0.03 and angle < 0.05)
+        if not self._carrying:
+          self._carry_watch.reset()   # on to the goal below
+        elif self._carry_watch.stalled(distance, angle) and self._pinned():
+          self._carry_stalled(moving, pair, twist)
         return action
       # Closing the last centimetres slowly keeps the arm from hunting about the goal
       # (measured at scale 0.5: +-1 cm oscillation at gain 0.6, the 5 mm gate never met).
@@ -334,55 +337,64 @@ class ArmAssemblyController:
       angle = np.linalg.norm(geometry.mat_to_axis_angle(part_rot @ rot.T))
       if phase == Phase.ALIGN and distance < 0.01 and angle < 0.03:
         self.phase = Phase.INSERT
+      elif phase == Phase.ALIGN and self._carry_watch.stalled(distance, angle) and self._pinned():
+        self._carry_stalled(moving, pair, twist)
       elif phase == Phase.INSERT and sensing.attachable(task, physics, pair, self._tolerance):
         self._plan = None
         action[-1] = 1.0
+    elif phase == Phase.PUT_BACK:
+      # Over the spot it was taken from at the height it stalled at, down, and let go.
+      if not self._holding(moving):
+        self.phase, self._counter = Phase.REACH, 0
+        return action
+      spot, rot = self._grasp
+      goal = [spot + [0.0, 0.0, z] for z in (self._put_back_height, self._lift, 0.008)][
+          self._counter]
+      lowering = self._counter == 2
+      waypoint = goal if lowering else self._clearance.arc_waypoint(goal)
+      poses[:] = self._servo(robot, physics, arm, waypoint, rot, max_turn=0.3,
+                             gain=DESCEND_GAIN if lowering else 1.0)
+      distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
+      self._stalled += 1
+      if distance < (0.01 if lowering else 0.03) and angle < 0.05:
+        self._counter += 1
+      if self._counter == 3 or self._stalled > 2 * self._stall_steps:   # the way round is long
+        self.phase, self._counter = Phase.RELEASE, 0
     elif phase == Phase.RELEASE:
       self._counter += 1
       if self._counter >= self._release_steps:
         self.phase, self._counter = Phase.RETREAT, 0
         pos, rot = robot.tcp_pose(physics, arm)
-        self._grasp = (pos - 0.1 * rot[:, 2] + [0.0, 0.0, 0.1], rot)
+        # Back off, and up clear of the assembly: a hand left low beside a standing leg
+        # strikes it when it turns down for the next part (Panda, seeds 0-4).
+        back = pos - 0.1 * rot[:, 2] + [0.0, 0.0, 0.1]
+        back[2] = max(back[2], self._clearance.safe_height())
+        self._grasp = (back, rot)
     elif phase == Phase.RETREAT:
-      poses[:] = self._servo(robot, physics, arm, self._arc_waypoint(self._over_assembly(
+      route = self._clearance
+      poses[:] = self._servo(robot, physics, arm, route.arc_waypoint(route.over_assembly(
           self._grasp[0])), self._grasp[1])
       self._counter += 1
       if arm_motion.pose_error(robot, physics, arm, *self._grasp)[0] < 0.03 or self._counter > 40:
         self.phase, self._counter = Phase.REACH, 0
     return action
 
-  def _over_assembly(self, goal, near=0.06, clearance=0.08):
-    """`goal`, raised to pass over the growing assembly until the tool is above the goal;
-    from below that height beside the assembly, straight up first.
+  def _pinned(self):
+    """A joint of the arm at the limit the IK keeps it in (within 0.02 rad)."""
+    return arm_motion.joint_margins(self._robot, self._env.physics, self._arm).min() < 0.02
 
-    Travelling low, the hand sweeps into legs already standing on the root and drags
-    the whole (light, scaled) assembly out of reach; rising while moving sideways, the
-    hand and forearm still struck them (Sawyer, seeds 0-4).
-    """
-    pos, _ = self._robot.tcp_pose(self._env.physics, self._arm)
-    if np.linalg.norm(goal[:2] - pos[:2]) < near:
-      return goal
-    task, physics = self._env.task, self._env.physics
-    safe = self._assembly_top() + clearance + (self._pad_below or 0.0)
-    centre, radius = targets.assembly_circle(physics, task.furniture, task.root_part)
-    if pos[2] < safe - 0.02 and np.linalg.norm(pos[:2] - centre) < radius + 0.15:
-      return np.array([pos[0], pos[1], safe])
-    return np.array([goal[0], goal[1], max(goal[2], safe)])
-
-  def _assembly_top(self):
-    """Height of the highest corner of the parts joined to the root (or of the surface)."""
-    task, physics = self._env.task, self._env.physics
-    positions, rotations = task.furniture.part_poses(physics)
-    groups = task.state.group_labels()
-    top = self._surface
-    for part in np.flatnonzero(groups == groups[task.root_part]):
-      corners = (geometry.box_corners(*task.furniture.spec.parts[part].bounds)
-                 @ rotations[part].T + positions[part])
-      top = max(top, corners[:, 2].max())
-    return top
-
-  def _arc_waypoint(self, goal):
-    """A point on an arc around the base towards `goal`: carrying never sweeps across the base."""
-    base, base_rot = self._robot.base_pose
-    pos, _ = self._robot.tcp_pose(self._env.physics, self._arm)
-    return arm_motion.arc_waypoint(base, pos, goal, heading=np.arctan2(base_rot[1, 0], base_rot[0, 0]))
+  def _carry_stalled(self, moving, pair, twist):
+    """A carry that stopped short of its mating pose with a joint at its limit: another
+    mate or twist first; stalled again, set the part back down and take it with the
+    other of its two grasps (the wrist then turns the other way; the Panda's last joint
+    was pinned at its limit after every replan). Other stalls keep the 2 * stall_steps
+    budget (a slow approach may still get there)."""
+    self._failed_plans.add((pair, twist))
+    self._plan, self._stalled, self._inserting = None, 0, 0
+    self._carry_stalls[moving] = self._carry_stalls.get(moving, 0) + 1
+    if self._carry_stalls[moving] == 2:
+      self._stalled_grasps.add((moving, self._grasp_sign))
+      self._failed_plans = set()   # those failed with the other grasp
+      tcp, _ = self._robot.tcp_pose(self._env.physics, self._arm)
+      self._put_back_height = tcp[2] - self._grasp[0][2]
+      self.phase, self._counter = Phase.PUT_BACK, 0

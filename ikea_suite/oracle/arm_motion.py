@@ -118,6 +118,34 @@ class PoseServo:
     return np.concatenate([move, turn])
 
 
+def joint_margins(robot, physics, arm):
+  """Per-joint distance (rad) of an arm's joints to the limits its IK keeps them in."""
+  low, high = robot.ik.limits
+  index = robot.ik.qpos_index[robot.ik_joint_indices(arm)]
+  q = robot.arm_qpos(physics)
+  return np.minimum(q[index] - low[index], high[index] - q[index])
+
+
+class ProgressWatch:
+  """Says when a servoed tool has stopped closing on its goal: `window` control steps
+  without `min_gain` less error (metres, plus 0.2 m per radian of orientation error)."""
+
+  def __init__(self, window=40, min_gain=0.01):
+    self._window, self._min_gain = window, min_gain
+    self.reset()
+
+  def reset(self):
+    self._best, self._since = np.inf, 0
+
+  def stalled(self, distance, angle):
+    error = distance + 0.2 * angle
+    if error < self._best - self._min_gain:
+      self._best, self._since = error, 0
+    else:
+      self._since += 1
+    return self._since > self._window
+
+
 def _clip_norm(vector, limit):
   norm = np.linalg.norm(vector)
   return vector if norm <= limit else vector * (limit / norm)

@@ -46,6 +46,21 @@ def assembled_pose(physics, furniture, root, part):
   return rotation @ spec.pos + translation, rotation @ spec.rot
 
 
+def mated_part_pose(physics, furniture, pair, moving, twist):
+  """Pose of `moving` that makes the connector pair's connectors coincide at `twist`, and
+  the unit vector from the mating point to it (the side to approach from)."""
+  table = furniture.connectors
+  con_a, con_b = table.pair_a[pair], table.pair_b[pair]
+  moving_con = con_a if table.part[con_a] == moving else con_b
+  positions, rotations = furniture.part_poses(physics)
+  cpos, crot = table.world_frames(positions, rotations)
+  frame_pos, frame_rot = table.mated_frame(pair, moving_con, cpos, crot, twist)
+  rot = frame_rot @ table.local_rot[moving_con].T
+  pos = frame_pos - rot @ table.local_pos[moving_con]
+  side = pos - frame_pos
+  return pos, rot, side / max(np.linalg.norm(side), 1e-6)
+
+
 def part_radius(furniture, part):
   """Radius of a sphere about the part's origin that holds all its collision geometry."""
   lo, hi = furniture.spec.parts[part].bounds

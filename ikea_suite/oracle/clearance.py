@@ -1,0 +1,70 @@
+"""Routes for a scripted arm's hand that keep it clear of the growing assembly.
+
+At the arms' work scale (0.5) the assembly weighs a few hundred grams: a hand
+or held part that strikes a leg already standing on the root drags the whole
+assembly out of reach, or tips it over. The routes here pass over it, rise
+straight up from beside it, and swing around the base rather than across it.
+"""
+
+import numpy as np
+
+from ikea_suite import geometry
+from ikea_suite.oracle import arm_motion
+from ikea_suite.oracle import targets
+
+
+class AssemblyClearance:
+  """Waypoints for one arm of `env`'s robot; `surface` is the height the parts lie on."""
+
+  def __init__(self, env, arm, surface):
+    self._env, self._robot, self._arm, self._surface = env, env.task.robot, arm, surface
+    self.pad_below = 0.0   # how far the open fingertips reach below the tool centre
+    self.reset()
+
+  def reset(self):
+    self._rise_from = None   # (x, y) a rise clear of the assembly started from
+
+  def assembly_top(self):
+    """Height of the highest corner of the parts joined to the root (or of the surface)."""
+    task, physics = self._env.task, self._env.physics
+    positions, rotations = task.furniture.part_poses(physics)
+    groups = task.state.group_labels()
+    top = self._surface
+    for part in np.flatnonzero(groups == groups[task.root_part]):
+      corners = (geometry.box_corners(*task.furniture.spec.parts[part].bounds)
+                 @ rotations[part].T + positions[part])
+      top = max(top, corners[:, 2].max())
+    return top
+
+  def safe_height(self, clearance=0.08):
+    """Tool height at which the open fingers pass `clearance` over the assembly."""
+    return self.assembly_top() + clearance + self.pad_below
+
+  def over_assembly(self, goal, near=0.06, clearance=0.08):
+    """`goal`, raised to pass over the assembly until the tool is above the goal; from
+    below that height beside the assembly, straight up first.
+
+    Travelling low, the hand sweeps into legs already standing on the root; rising while
+    moving sideways, the hand and forearm still struck them (Sawyer, seeds 0-4).
+    """
+    pos, _ = self._robot.tcp_pose(self._env.physics, self._arm)
+    if np.linalg.norm(goal[:2] - pos[:2]) < near:
+      self._rise_from = None
+      return goal
+    task, physics = self._env.task, self._env.physics
+    safe = self.safe_height(clearance)
+    centre, radius = targets.assembly_circle(physics, task.furniture, task.root_part)
+    if pos[2] < safe - 0.02 and np.linalg.norm(pos[:2] - centre) < radius + 0.15:
+      # Up from where the rise began: re-aimed from the present position each step,
+      # the hand drifted sideways into the leg beside it as it rose (Panda, seeds 0-4).
+      if self._rise_from is None:
+        self._rise_from = pos[:2].copy()
+      return np.array([*self._rise_from, safe])
+    self._rise_from = None
+    return np.array([goal[0], goal[1], max(goal[2], safe)])
+
+  def arc_waypoint(self, goal):
+    """A point on an arc around the base towards `goal`: carrying never sweeps across the base."""
+    base, base_rot = self._robot.base_pose
+    pos, _ = self._robot.tcp_pose(self._env.physics, self._arm)
+    return arm_motion.arc_waypoint(base, pos, goal, heading=np.arctan2(base_rot[1, 0], base_rot[0, 0]))
