@@ -55,7 +55,6 @@ class ArmAssemblyController:
         robot.arms[arm].gripper.close_time / env.control_timestep())))
     self._close_steps, self._release_steps = close_steps, release_steps
     self._stall_steps, self._insert_steps = stall_steps, insert_steps
-    self._pad_below = None   # measured at the first grasp, with the arm at home
     # Carry and clearance heights count from the surface the parts lie on (floor or table top).
     self._surface = env.task.arena.support.height
     self._clearance = clearance.AssemblyClearance(env, arm, self._surface)
@@ -138,11 +137,11 @@ class ArmAssemblyController:
     # clearance is still gripped at its widest (the pads reach down past the tool
     # centre); aiming lower pressed the fingertips into the floor, and a 13 mm leg's
     # 6.5 mm centre stayed 7.5 mm short of the descent's 6 mm gate.
-    if self._pad_below is None:
-      self._pad_below = arm_motion.fingertip_reach(self._robot, self._env.physics, self._arm)
-      self._clearance.pad_below = self._pad_below
+    route = self._clearance
+    if route.pad_below is None:   # measured at the first grasp, with the arm at home
+      route.pad_below = arm_motion.fingertip_reach(self._robot, self._env.physics, self._arm)
     point = point.copy()
-    point[2] = corners[:, 2].min() + self._pad_below + 0.003
+    point[2] = corners[:, 2].min() + route.pad_below + 0.003
     closing = targets.across_long_axis(part_rot, bounds) * (self._grasp_sign if sign is None else sign)
     return point, arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
 

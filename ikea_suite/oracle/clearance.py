@@ -18,7 +18,7 @@ class AssemblyClearance:
 
   def __init__(self, env, arm, surface):
     self._env, self._robot, self._arm, self._surface = env, env.task.robot, arm, surface
-    self.pad_below = 0.0   # how far the open fingertips reach below the tool centre
+    self.pad_below = None   # how far the open fingertips reach below the tool centre (m)
     self.reset()
 
   def reset(self):
@@ -38,7 +38,7 @@ class AssemblyClearance:
 
   def safe_height(self, clearance=0.08):
     """Tool height at which the open fingers pass `clearance` over the assembly."""
-    return self.assembly_top() + clearance + self.pad_below
+    return self.assembly_top() + clearance + (self.pad_below or 0.0)
 
   def over_assembly(self, goal, near=0.06, clearance=0.08):
     """`goal`, raised to pass over the assembly until the tool is above the goal; from
