@@ -23,14 +23,16 @@ import numpy as np
 
 
 def run_episode(job):
-  """(robot, furniture, scale, seed, time limit or None, arena) -> dict summary of one expert
-  episode."""
-  robot, furniture, scale, seed, time_limit, arena = job
+  """(robot, furniture, scale, seed, time limit or None, arena, control mode) -> dict summary
+  of one expert episode."""
+  robot, furniture, scale, seed, time_limit, arena, control_mode = job
   import ikea_suite
   from ikea_suite import experts
   from ikea_suite.experts import bimanual
   start = time.perf_counter()
   options = {"arena": arena}
+  if robot != "cursor":
+    options["control_mode"] = control_mode
   if time_limit is not None:
     options["time_limit"] = time_limit
   env = ikea_suite.load(furniture, robot, seed=seed, scale=scale, **options)
@@ -42,7 +44,8 @@ def run_episode(job):
     timestep = env.step(expert(timestep))
     steps += 1
   state = env.task.state
-  return {"robot": robot, "furniture": furniture, "scale": scale, "seed": seed,
+  return {"robot": robot, "control_mode": control_mode, "furniture": furniture, "scale": scale,
+          "seed": seed,
           "parts": len(env.task.furniture.parts), "connections": len(state.connections),
           "complete": bool(state.complete), "steps": steps,
           "seconds": time.perf_counter() - start,
@@ -103,6 +106,8 @@ def main(argv=None):
   parser.add_argument("--time-limit", type=float, default=None,
                       help="simulated seconds per episode (default: the task's, 30 + 25 per part)")
   parser.add_argument("--arena", default="floor", help="load(arena=...): floor or work_table")
+  parser.add_argument("--control-mode", default="task_space",
+                      help="the arms' control mode: task_space or impedance")
   parser.add_argument("--json", default=None, help="also write every episode's summary here")
   parser.add_argument("--graspable", action="store_true",
                       help="skip, naming the part, models with a loose part the robot's gripper "
@@ -114,7 +119,7 @@ def main(argv=None):
   for robot in args.robots:
     scale = args.scale or registry.get(robot).factory.WORK_SCALE
     mine = [m for m in models if not args.graspable or graspable(robot, m, scale, args.arena)]
-    jobs += [(robot, m, scale, s, args.time_limit, args.arena) for m in mine
+    jobs += [(robot, m, scale, s, args.time_limit, args.arena, args.control_mode) for m in mine
              for s in range(args.seed_start, args.seed_start + args.seeds)]
   start = time.perf_counter()
   rows = []

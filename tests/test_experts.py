@@ -25,9 +25,10 @@ def test_make_expert_returns_the_robots_policy_with_reset(robot, kind):
   assert np.shape(action) == env.action_spec().shape
 
 
-def test_arm_expert_needs_task_space():
+def test_arm_expert_needs_a_task_space_move_mode():
   env = ikea_suite.load("table_four_leg_lack", "panda", control_mode="joint_position")
-  with pytest.raises(ikea_suite.IkeaSuiteError, match="control_mode='task_space'"):
+  with pytest.raises(ikea_suite.IkeaSuiteError,
+                     match="'task_space' or 'impedance', got control_mode='joint_position'"):
     experts.make_expert(env)
 
 

@@ -126,3 +126,32 @@ def test_a_finger_is_drawn_as_its_collision_boxes():
   for shape, (lo, hi) in zip(drawn, sorted(boxes, key=lambda b: -np.prod(b[1] - b[0]))):
     np.testing.assert_allclose(shape.centre, (lo + hi) / 2)
     np.testing.assert_allclose(shape.half, (hi - lo) / 2)
+
+
+def _collision_bounds(model, geom):
+  """Bounds of a primitive collision geom in its body's frame (from its local AABB)."""
+  centre, half = model.geom_aabb[geom, :3], model.geom_aabb[geom, 3:]
+  corners = centre + half * np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
+  rotation = np.zeros(9)
+  mujoco.mju_quat2Mat(rotation, model.geom_quat[geom])
+  points = model.geom_pos[geom] + corners @ rotation.reshape(3, 3).T
+  return points.min(axis=0), points.max(axis=0)
+
+
+def test_panda_links_collide_as_drums_and_tubes_inside_their_mesh_bounds():
+  # The Panda's sheet gives no collision primitives, only each link's whole-mesh
+  # bounds; a box of those bounds stood up to 5 cm proud of the link at its corners.
+  model = _physics("panda").model
+  for body in robot_facts.load("panda")["bodies"]:
+    if not body["name"].startswith("link") or body["name"] == "link0":
+      continue
+    whole = next(p for p in body["visual_mesh_bounds"] if p.get("rgba") is None)
+    lo, hi = (np.asarray(b) for b in whole["bounds_in_body"])
+    geoms = [i for i in range(model.ngeom)
+             if model.id2name(i, "geom").startswith(f"{body['name']}_col")]
+    types = {int(model.geom_type[i]) for i in geoms}
+    assert int(mujoco.mjtGeom.mjGEOM_CYLINDER) in types, body["name"]
+    assert int(mujoco.mjtGeom.mjGEOM_CAPSULE) in types or body["name"] == "link7", body["name"]
+    for i in geoms:
+      glo, ghi = _collision_bounds(model, i)
+      assert np.all(glo >= lo - 1e-3) and np.all(ghi <= hi + 1e-3), model.id2name(i, "geom")

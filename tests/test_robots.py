@@ -16,7 +16,7 @@ def test_action_spec_per_mode(robot, mode):
   env = ikea_suite.load("table_four_leg_lack", robot, seed=0, control_mode=mode)
   names = env.action_spec().name.split("\t")
   arms = 2 if robot == "baxter" else 1
-  per_arm = 7 if mode.startswith("task_space") else JOINT_COUNT[robot] + 1
+  per_arm = 7 if mode in ("task_space", "task_space_pose", "impedance") else JOINT_COUNT[robot] + 1
   assert len(names) == arms * per_arm + 1
   assert names[-1] == "connect" and names.count("connect") == 1
   if robot == "baxter":
@@ -37,7 +37,7 @@ def test_action_spec_per_mode(robot, mode):
 
 def test_unknown_control_mode_lists_valid_ones():
   with pytest.raises(ikea_suite.UnknownNameError, match="joint_torque"):
-    ikea_suite.load("table_four_leg_lack", "sawyer", control_mode="impedance")
+    ikea_suite.load("table_four_leg_lack", "sawyer", control_mode="velocity")
 
 
 _FULL_SIZE_SPILLS = pytest.mark.xfail(strict=True, reason=(

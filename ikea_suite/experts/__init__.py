@@ -76,13 +76,13 @@ def make_expert(env: environment.Environment,
   """The scripted expert for `env`'s robot: a callable TimeStep -> action with reset().
 
   Args:
-    env: an ikea_suite environment (arms in control_mode="task_space").
+    env: an ikea_suite environment (arms in control_mode "task_space" or "impedance").
     require_supported: raise unless the (furniture, robot) pair is in supported().
   Returns:
     A policy object with reset() and __call__(timestep).
   Raises:
     UnknownNameError: a robot with no expert, or (require_supported) an unsupported pair.
-    IkeaSuiteError: an arm not in task_space mode.
+    IkeaSuiteError: an arm in a mode other than task_space or impedance.
   """
   robot = env.task.robot
   name = robot.mjcf_model.model
@@ -92,10 +92,11 @@ def make_expert(env: environment.Environment,
     supported_scale(name, env.task.furniture.name)
   if name == "cursor":
     return cursor_oracle.CursorOracle(env)
-  if robot.control_mode != control_modes.TASK_SPACE:
+  if robot.control_mode not in control_modes.DELTA_TARGETS:
     raise errors.IkeaSuiteError(
-        f"the {name} expert drives the arm in control_mode='task_space', "
-        f"got control_mode={robot.control_mode!r}")
+        f"the {name} expert drives the arm by task-space moves, in control_mode "
+        f"{' or '.join(map(repr, control_modes.DELTA_TARGETS))}, got "
+        f"control_mode={robot.control_mode!r}")
   if robot.num_arms == 2:
     return bimanual.TwoArmExpert(env)
   return arm_controller.ArmAssemblyController(env)

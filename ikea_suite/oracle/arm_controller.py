@@ -3,7 +3,7 @@
 With privileged state it picks the planner's next part, grasps it by
 friction, turns it so its connector meets the mate on the assembly, and
 issues connect, through the same action vector a learning agent sends
-(task_space mode: move, rotate, gripper, connect). It then lets go, backs
+(task_space or impedance mode: move, rotate, gripper, connect). It then lets go, backs
 off, and moves on to the next pair until the furniture is whole.
 """
 
@@ -44,9 +44,10 @@ class ArmAssemblyController:
   def __init__(self, env, arm=0, hover=0.12, lift=0.12, carry=0.5, approach=0.08, tolerance=0.9,
                close_steps=8, release_steps=6, stall_steps=150, insert_steps=40):
     robot = env.task.robot
-    if robot.control_mode != control_modes.TASK_SPACE:
+    if robot.control_mode not in control_modes.DELTA_TARGETS:
       raise errors.IkeaSuiteError(
-          "ArmAssemblyController drives an arm in control_mode='task_space'")
+          f"ArmAssemblyController drives an arm by task-space moves, in control_mode "
+          f"{' or '.join(map(repr, control_modes.DELTA_TARGETS))}, got {robot.control_mode!r}")
     self._env, self._robot, self._arm = env, robot, arm
     self._hover, self._lift, self._carry, self._approach = hover, lift, carry, approach
     self._tolerance = tolerance

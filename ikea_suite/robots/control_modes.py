@@ -11,6 +11,10 @@ Every mode's per-arm action ends with `gripper` (-1 open, +1 closed):
 - joint_position: one target per arm joint mapped onto the joint's range,
   tracked by PD position actuators.
 - joint_torque: one torque per arm joint scaled to the joint's torque limit.
+- impedance: the task_space action (tool-centre-point moves and rotations,
+  gripper), tracked not by IK but by a Cartesian spring and damper from the
+  tool to its target that MuJoCo evaluates every substep (arm_actuators):
+  the arm yields to contact the way a torque-controlled arm does.
 
 Both task-space modes are solved once per control step by mink differential
 IK and tracked during the physics substeps by the joint position actuators.
@@ -27,7 +31,10 @@ TASK_SPACE = "task_space"
 TASK_SPACE_POSE = "task_space_pose"
 JOINT_POSITION = "joint_position"
 JOINT_TORQUE = "joint_torque"
-MODES = (TASK_SPACE, TASK_SPACE_POSE, JOINT_POSITION, JOINT_TORQUE)
+IMPEDANCE = "impedance"
+MODES = (TASK_SPACE, TASK_SPACE_POSE, JOINT_POSITION, JOINT_TORQUE, IMPEDANCE)
+# Modes whose action moves task-space targets by deltas (TaskSpaceTargets.apply_deltas).
+DELTA_TARGETS = (TASK_SPACE, IMPEDANCE)
 POSITION_ACTUATED = (TASK_SPACE, TASK_SPACE_POSE, JOINT_POSITION)
 
 
@@ -39,7 +46,7 @@ def check(mode):
 
 def arm_action_names(mode, joint_names):
   """Names of one arm's action entries (without the arm's prefix)."""
-  if mode == TASK_SPACE:
+  if mode in DELTA_TARGETS:
     names = ["move_x", "move_y", "move_z", "rotate_x", "rotate_y", "rotate_z"]
   elif mode == TASK_SPACE_POSE:
     names = ["x", "y", "z", "rot_x", "rot_y", "rot_z"]

@@ -2,10 +2,9 @@
 
 A subclass builds its MJCF in `_build_body` and returns one `Arm` per arm.
 Everything else (action spec, control modes, wrist cameras, the part
-placement the robot can reach) is shared. Controls are computed once per
-control step in `apply_action`; MuJoCo's position actuators track them
-during the substeps, so no Python runs per physics substep.
-"""
+placement the robot can reach) is shared. Controls and targets are set once per
+control step in `apply_action`; MuJoCo's actuators (arm_actuators) act on them
+during the substeps, so no Python runs per physics substep."""
 
 import dataclasses
 
@@ -16,6 +15,7 @@ from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite import options
 from ikea_suite import physics_settings
+from ikea_suite.robots import arm_actuators
 from ikea_suite.robots import base
 from ikea_suite.robots import control_modes
 from ikea_suite.robots import grippers
@@ -44,6 +44,7 @@ class Arm:
   seed: np.ndarray            # joint angles near the home pose, refined by IK
   home_tcp: np.ndarray        # home tool-centre point in the base frame
   workspace: np.ndarray       # (2, 3) box in the base frame the tool is kept in
+  impedance_target: object = None   # the target site of impedance mode (arm_actuators)
 
 
 def single_arm(root, elements, limits, joints, gripper_spec, seed, home_tcp, workspace_box):
@@ -76,7 +77,7 @@ class Manipulator(base.Robot):
 
   def _build(self, name=None, control_mode="task_space", max_translation=0.025,
              max_rotation=0.15, base_pos=None, base_yaw=0.0, wrist_camera=False,
-             camera_size=(84, 84)):
+             camera_size=(84, 84), impedance_stiffness=None):
     self._mode = control_modes.check(control_mode)
     max_translation = options.positive("max_translation", max_translation)
     max_rotation = options.positive("max_rotation", max_rotation)
@@ -89,8 +90,9 @@ class Manipulator(base.Robot):
                                     f"got {camera_size.tolist()!r}")
     camera_size = tuple(int(v) for v in camera_size)
     self._mjcf_root, self._arms = self._build_body(name or self.DEFAULT_NAME)
-    for arm in self._arms:
-      self._add_arm_actuators(arm)
+    stiffness = arm_actuators.impedance_stiffness(impedance_stiffness, self._mode)  # None unless
+    for arm in [] if stiffness else self._arms:                                       # impedance
+      arm.actuators = arm_actuators.add(self._mjcf_root, arm, self._mode, self.KP_PER_NM)
     tcp_sites = [arm.gripper.tcp_site for arm in self._arms]
     arm_joints = [j for arm in self._arms for j in arm.joints]
     working = {arm.joints[j]: r for arm in self._arms for j, r in self.IK_WORKING_RANGES.items()}
@@ -99,6 +101,10 @@ class Manipulator(base.Robot):
     self._home_q = self._home_configuration()
     self._ik.set_posture(self._home_q)
     self._home_rot = [rot for _, rot in self._ik.tcp_poses(self._home_q)]
+    for arm in self._arms if stiffness else []:   # its posture spring needs the home angles
+      home = self._home_q[self._ik.qpos_index[[list(self._ik.joints).index(j) for j in arm.joints]]]
+      arm.actuators = arm_actuators.add(self._mjcf_root, arm, self._mode, self.KP_PER_NM,
+                                        arm.joints[0].parent.parent, home, stiffness)
     boxes = [self._box_to_world(arm.workspace) for arm in self._arms]
     self._targets = control_modes.TaskSpaceTargets(len(self._arms), max_translation,
                                                     max_rotation, boxes)
@@ -108,22 +114,6 @@ class Manipulator(base.Robot):
   def _build_body(self, name):
     """Returns (mjcf root, [Arm]) of the robot without arm actuators."""
     raise NotImplementedError
-
-  def _add_arm_actuators(self, arm):
-    actuators = []
-    for joint, limit in zip(arm.joints, arm.torque_limits):
-      if self._mode in control_modes.POSITION_ACTUATED:
-        kwargs = dict(kp=self.KP_PER_NM * limit, dampratio=1.0, forcelimited=True,
-                      forcerange=(-limit, limit))
-        if joint.range is not None:
-          kwargs.update(ctrllimited=True, ctrlrange=joint.range)
-        actuators.append(self._mjcf_root.actuator.add(
-            "position", name=f"{joint.name}_position", joint=joint, **kwargs))
-      else:
-        actuators.append(self._mjcf_root.actuator.add(
-            "motor", name=f"{joint.name}_torque", joint=joint, ctrllimited=True,
-            ctrlrange=(-limit, limit)))
-    arm.actuators = actuators
 
   def _home_configuration(self):
     key = (type(self).__name__, self._mjcf_root.model)
@@ -255,6 +245,11 @@ class Manipulator(base.Robot):
     self._joint_low = np.where(limited, ranges[..., 0], -np.pi)
     self._joint_high = np.where(limited, ranges[..., 1], np.pi)
     # After the task's configure_contacts: composer calls the task's hook first.
+    if self._mode == control_modes.IMPEDANCE:
+      self._impedance = arm_actuators.ImpedanceTargets(
+          physics, [a.impedance_target for a in self._arms],
+          [a.impedance_target.parent for a in self._arms])
+      arm_actuators.critical_damping(physics, self._arm_act.ravel(), self._ik_to_qpos, self._home_q)
     physics_settings.configure_pads(
         physics.model, bind([g for a in self._arms for g in a.gripper.pad_geoms]).element_id)
 
@@ -269,9 +264,11 @@ class Manipulator(base.Robot):
     data.qvel[self._ik_to_dof] = 0.0
     for i, arm in enumerate(self._arms):
       home = self._home_q[self._ik.qpos_index[self._arm_ik[i]]]
-      data.ctrl[self._arm_act[i]] = 0.0 if self._mode == control_modes.JOINT_TORQUE else home
+      data.ctrl[self._arm_act[i]] = home if self._mode in control_modes.POSITION_ACTUATED else 0.0
       data.ctrl[self._finger_act[i]] = arm.gripper.open_qpos
     self._targets.reset(self.home_tcp_poses())
+    if self._mode == control_modes.IMPEDANCE:
+      self._impedance.place(physics, self._targets.pos, self._targets.rot)
 
   # -- acting ----------------------------------------------------------------------
 
@@ -280,6 +277,9 @@ class Manipulator(base.Robot):
     data = physics.data
     if self._mode in (control_modes.TASK_SPACE, control_modes.TASK_SPACE_POSE):
       self._track_task_space(physics, action)
+    elif self._mode == control_modes.IMPEDANCE:   # springs to the targets, ctrl stays 0
+      self._targets.apply_deltas(action, data.site_xpos[self._tcp_ids])
+      self._impedance.place(physics, self._targets.pos, self._targets.rot)
     elif self._mode == control_modes.JOINT_POSITION:
       for i in range(len(self._arms)):
         data.ctrl[self._arm_act[i]] = control_modes.joint_targets(

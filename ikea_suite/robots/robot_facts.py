@@ -2,9 +2,10 @@
 
 A fact sheet lists bodies in tree order with their frame in the parent,
 inertial, joints, collision primitives and the bounds of each visual piece.
-We turn that into MJCF with simple shapes: collision primitives as given
-(hidden, group 3) and rounded shapes fitted to each sizeable visual piece
-(coloured MuJoCo `supersphere` meshes, no contact or mass; see visual_shapes).
+We turn that into MJCF with simple shapes: collision primitives as given, or
+fitted to the link's mesh bounds where the sheet lists none (hidden, group 3),
+and rounded shapes fitted to each sizeable visual piece (coloured MuJoCo
+`supersphere` meshes, no contact or mass; see visual_shapes).
 """
 
 import functools
@@ -40,14 +41,33 @@ def _float(value, default=0.0):
   return default if value is None else float(value)
 
 
-def _bounding_box_geoms(body):
-  """A box around the whole-link mesh (the uncoloured entry) when the sheet lists no primitive."""
+def _fitted_collision_geoms(body, anchors):
+  """Collision primitives for a link the sheet gives only as one whole-link mesh
+  (the uncoloured entry's bounds): a cylinder round each joint housed, a capsule
+  along each tube reaching from it, as visual_shapes fits them (the Panda's
+  links are such drums and tubes). A box of the whole bounds would stand up to
+  5 cm proud of the real link at its corners and drag parts it never touches.
+  Shapes that are not round across (a block, a tube squashed into a thin box)
+  stay boxes of their own bounds.
+  """
   for piece in body.get("visual_mesh_bounds", []):
     if piece.get("rgba") is None:
       lo, hi = (np.asarray(b, dtype=float) for b in piece["bounds_in_body"])
-      return [{"type": "box", "size": list(np.maximum((hi - lo) / 2, 1e-3)),
-               "pos": list((lo + hi) / 2)}]
+      return [_primitive(shape) for shape in visual_shapes.fit(lo, hi, anchors)]
   return []
+
+
+def _primitive(shape):
+  """The MuJoCo primitive (as a fact-sheet collision entry) of a fitted shape."""
+  half, axis = np.maximum(np.asarray(shape.half), 1e-3), shape.axis
+  radius, length = half[[c for c in range(3) if c != axis]], half[axis]
+  if shape.exponents == visual_shapes.BLOCK or not np.isclose(radius[0], radius[1]):
+    return {"type": "box", "size": list(half), "pos": list(shape.centre)}
+  kind = "cylinder" if shape.exponents == visual_shapes.DRUM else "capsule"
+  # a capsule's size is its radius and the half length of its straight part
+  length = length if kind == "cylinder" else max(length - radius[0], 1e-3)
+  return {"type": kind, "size": [radius[0], length], "pos": list(shape.centre),
+          "quat": list(visual_shapes.AXIS_QUATS[axis])}
 
 
 def add_body(parent, body, name_prefix="", pos=None, quat=None, gravcomp=1.0, anchors=()):
@@ -72,7 +92,7 @@ def add_body(parent, body, name_prefix="", pos=None, quat=None, gravcomp=1.0, an
                 limited=True, damping=_float(joint.get("damping")),
                 armature=_float(joint.get("armature"), 0.01),
                 frictionloss=_float(joint.get("frictionloss")))
-  for k, geom in enumerate(body.get("collision_geoms") or _bounding_box_geoms(body)):
+  for k, geom in enumerate(body.get("collision_geoms") or _fitted_collision_geoms(body, anchors)):
     kwargs = dict(type=geom.get("type", "sphere"), size=geom["size"], density=0,
                   group=COLLISION_GROUP, rgba=(0.5, 0.5, 0.5, 0.3), contype=1, conaffinity=0)
     if "fromto" in geom:
