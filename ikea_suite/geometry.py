@@ -82,3 +82,12 @@ def frame_from_axes(zaxis, xaxis):
   z = np.asarray(zaxis, dtype=float)
   x = np.asarray(xaxis, dtype=float)
   return np.column_stack([x, np.cross(z, x), z])
+
+
+def pointing_down(rot):
+  """The rotation nearest `rot` whose z axis (a tool's approach direction) points straight down."""
+  x = np.array([rot[0, 0], rot[1, 0], 0.0])
+  if np.linalg.norm(x) < 1e-6:
+    x = np.array([rot[0, 1], rot[1, 1], 0.0])
+  x /= np.linalg.norm(x)
+  return frame_from_axes(np.array([0.0, 0.0, -1.0]), x)

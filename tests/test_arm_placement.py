@@ -48,3 +48,20 @@ def test_preassembled_parts_start_joined_for_an_arm():
   env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=2, preassembled=2, scale=0.5)
   env.reset()
   assert len(env.task.state.connections) == 2
+
+
+@pytest.mark.parametrize("robot", ("sawyer", "panda", "baxter", "jaco"))
+def test_parts_lie_within_the_sector_the_arm_declares(robot):
+  env = ikea_suite.load("table_four_leg_lack", robot, seed=5, scale=0.5)
+  arm = env.task.robot
+  base_xy, base_rot, _, sector = arm.reach_zone
+  heading = np.arctan2(base_rot[1, 0], base_rot[0, 0])
+  bearings = []
+  for _ in range(5):
+    env.reset()
+    positions, _, _ = _part_yaws_and_distances(env)
+    offsets = np.delete(positions[:, :2] - base_xy, env.task.root_part, axis=0)
+    bearings.extend(np.angle(np.exp(1j * (np.arctan2(offsets[:, 1], offsets[:, 0]) - heading))))
+  bearings = np.abs(bearings)
+  assert bearings.max() <= sector + 1e-6
+  assert bearings.max() > 0.6 * sector   # the sector is used, not a narrower one

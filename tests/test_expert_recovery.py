@@ -51,3 +51,39 @@ def test_twice_stalled_carry_puts_the_part_back_and_takes_it_the_other_way():
   put_at = furniture.part_poses(env.physics)[0][moving]
   assert np.linalg.norm(put_at - taken_from) < 0.03   # back on the floor where it lay
   assert expert.job[1] == moving and expert._grasp_sign == -sign
+
+
+def test_a_grasp_that_does_not_hold_is_not_tried_again_until_both_have_failed():
+  # Lifted with nothing in the fingers (put in ALIGN with the part still on the floor):
+  # the part is taken with its other grasp next; when that fails too, another part.
+  env = ikea_suite.load("stool_round_frosta", "sawyer", seed=0, scale=0.5)
+  expert = experts.make_expert(env)
+  timestep = env.reset()
+  expert.reset()
+  timestep = env.step(expert(timestep))   # a part and a grasp chosen
+  moving, sign = expert.job[1], expert._grasp_sign
+  expert.phase = Phase.ALIGN
+  timestep = env.step(expert(timestep))
+  assert expert.phase == Phase.REACH and (moving, sign) in expert._stalled_grasps
+  timestep = env.step(expert(timestep))
+  assert expert.job[1] == moving and expert._grasp_sign == -sign
+  assert moving not in expert._unreachable
+  expert.phase = Phase.ALIGN
+  timestep = env.step(expert(timestep))
+  assert moving in expert._unreachable
+  timestep = env.step(expert(timestep))
+  assert expert.job[1] != moving
+
+
+def test_an_arm_taking_over_remembers_its_stalled_grasps_until_a_connection():
+  env = ikea_suite.load("stool_round_frosta", "baxter", seed=0, scale=0.5)
+  expert = experts.make_expert(env)
+  env.reset()
+  expert.reset()
+  right = expert._arms[0]
+  right._stalled_grasps.add((1, 1.0))
+  right.take_over()   # the other arm worked meanwhile, without connecting anything
+  assert (1, 1.0) in right._stalled_grasps
+  right._connections = -1   # a connection made since this arm last worked
+  right.take_over()
+  assert not right._stalled_grasps

@@ -53,11 +53,11 @@ def make(env: environment.Environment) -> Expert:
   """The expert for `env`'s robot.
 
   Args:
-    env: an ikea_suite environment (arms in control_mode="task_space").
+    env: an ikea_suite environment (arms in control_mode "task_space" or "impedance").
   Returns:
     An Expert wrapping ikea_suite.experts.make_expert(env).
   Raises:
     UnknownNameError: the robot has no expert.
-    IkeaSuiteError: an arm not in task_space mode.
+    IkeaSuiteError: an arm in a mode other than task_space or impedance.
   """
   return Expert(env)

@@ -15,6 +15,7 @@ from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.oracle import arm_motion
 from ikea_suite.oracle import clearance
+from ikea_suite.oracle import jobs
 from ikea_suite.oracle import sensing
 from ikea_suite.oracle import targets
 from ikea_suite.robots import control_modes
@@ -91,34 +92,19 @@ class ArmAssemblyController:
     return self.phase == Phase.REACH and self._counter == 1
 
   def take_over(self):
-    """Starts afresh from the present assembly, e.g. after another arm made connections."""
+    """Starts afresh from the present assembly, e.g. after another arm made connections.
+    The grasps it stalled on stay avoided until a connection is made: forgotten, the
+    arm retried the same stalled grasp a dozen times (Baxter, tuning seed 3)."""
+    connections = len(self._env.task.state.connections)
+    stalled = self._stalled_grasps if connections == self._connections else set()
     self.reset()
-    self._connections = len(self._env.task.state.connections)
+    self._connections, self._stalled_grasps = connections, stalled
 
   # -- choosing work -----------------------------------------------------------------
 
   def _choose_job(self):
-    """The open pair joining the root's group whose fixed connector is nearest the base."""
-    task, physics = self._env.task, self._env.physics
-    table, state = task.furniture.connectors, task.state
-    groups = state.group_labels()
-    root_group = groups[task.root_part]
-    positions, rotations = task.furniture.part_poses(physics)
-    cpos, _ = table.world_frames(positions, rotations)
     base, _ = self._robot.base_pose
-    best = None
-    for pair in np.flatnonzero(planner.open_pairs(table, state)):
-      a, b = table.pair_a[pair], table.pair_b[pair]
-      for fixed, moving in ((a, b), (b, a)):
-        if groups[table.part[fixed]] == root_group and groups[table.part[moving]] != root_group:
-          part_xy = positions[table.part[moving]][:2]
-          distance = (np.linalg.norm(cpos[fixed][:2] - base[:2])
-                      + np.linalg.norm(part_xy - base[:2]))   # reachable slot, then near part
-          if table.part[moving] in self._unreachable:
-            continue
-          if best is None or distance < best[0]:
-            best = (distance, int(pair), int(table.part[moving]))
-    return None if best is None else best[1:]
+    return jobs.nearest_open_job(self._env.task, self._env.physics, base, self._unreachable)
 
   # -- geometry from privileged state -----------------------------------------------
 
@@ -285,8 +271,13 @@ class ArmAssemblyController:
           or self._counter > self._close_steps + 40):   # as high as it goes: carry on
         self.phase = Phase.ALIGN
     elif phase in (Phase.ALIGN, Phase.INSERT):
-      if not self._holding(moving):
-        self.phase, self._counter, self._plan = Phase.REACH, 0, None   # dropped it: start over
+      if not self._holding(moving):   # dropped, or never held: start over with the other grasp
+        # (Baxter, tuning seed 3: a leg slipped from the same grasp for the whole episode),
+        # and with another part once both grasps have failed.
+        self._stalled_grasps.add((moving, self._grasp_sign))
+        if (moving, -self._grasp_sign) in self._stalled_grasps:
+          self._unreachable.add(moving)
+        self.phase, self._counter, self._plan = Phase.REACH, 0, None
         return action
       if self._plan is None:
         self._plan, self._carrying = self._plan_mating(moving), True

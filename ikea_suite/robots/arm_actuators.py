@@ -25,9 +25,10 @@ from ikea_suite import options
 from ikea_suite.robots import control_modes
 
 # Default Cartesian stiffness of impedance mode (load option `impedance_stiffness`):
-# 1500 N/m and 60 N m/rad, within the range of
-# Franka's published Cartesian impedance examples (up to 3000 N/m, 300 N m/rad); a 1 kg
-# part sags 6.5 mm under it. Damping is critical per axis at the home pose (critical_damping).
+# 1500 N/m and 60 N m/rad, ten times libfranka's Cartesian impedance example (150 N/m,
+# 10 N m/rad, examples/cartesian_impedance_control.cpp, a soft hand-guiding setting) so
+# that a 1 kg part sags 6.5 mm and the tool settles within 2-3 mm of its target.
+# Damping is critical per axis at the home pose (critical_damping).
 IMPEDANCE_STIFFNESS = (1500.0, 60.0)
 # N m/rad per joint towards the home posture: small against the spring as felt at the
 # joints (hundreds of N m/rad), so the tool's steady error stays near a millimetre.

@@ -25,15 +25,6 @@ from ikea_suite.robots import manipulator_observables
 _HOME_CACHE = {}
 
 
-def tool_down(rot):
-  """The rotation nearest `rot` whose z axis (the approach direction) points straight down."""
-  x = np.array([rot[0, 0], rot[1, 0], 0.0])
-  if np.linalg.norm(x) < 1e-6:
-    x = np.array([rot[0, 1], rot[1, 1], 0.0])
-  x /= np.linalg.norm(x)
-  return geometry.frame_from_axes(np.array([0.0, 0.0, -1.0]), x)
-
-
 @dataclasses.dataclass
 class Arm:
   prefix: str                 # action-name prefix: "" or "right_" / "left_"
@@ -63,6 +54,8 @@ class Manipulator(base.Robot):
   DEFAULT_NAME = "manipulator"
   BASE_POS = (-0.55, 0.0, 0.0)   # world position of the base, facing +x
   REACH = 0.85                   # metres from the base where parts are placed
+  # Parts lie within this angle either side of the base's heading (rad).
+  PLACEMENT_SECTOR = np.radians(110)
   # Furniture scale that fits this arm's reach (load(scale=...)): at 0.5 a 55 cm table
   # top is 27.5 cm and every part of the small furniture lies within REACH on the work
   # area in front of the base, the way FurnitureBench assembles miniature furniture.
@@ -126,7 +119,7 @@ class Manipulator(base.Robot):
           q[self._ik.qpos_index[list(self._ik.joints).index(joint)]] = value
       self._ik.set_posture(q)
       # Home: tool pointing down at home_tcp, wrist turned as in the seed pose.
-      targets = [(arm.home_tcp, tool_down(rot))
+      targets = [(arm.home_tcp, geometry.pointing_down(rot))
                  for arm, (_, rot) in zip(self._arms, self._ik.tcp_poses(q))]
       _HOME_CACHE[key] = self._ik.solve(self._ik.clip_to_limits(q), targets)
     return _HOME_CACHE[key].copy()
@@ -208,9 +201,10 @@ class Manipulator(base.Robot):
 
   @property
   def reach_zone(self):
-    """(base xy (2,), base rotation (3, 3), reach in m): where the task may put parts for
-    this arm (tasks/arm_placement.py); a ring around the origin is out of reach."""
-    return self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH)
+    """(base xy (2,), base rotation (3, 3), reach in m, sector half-angle in rad): where the
+    task may put parts for this arm (tasks/arm_placement.py)."""
+    return (self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH),
+            float(self.PLACEMENT_SECTOR))
 
   def bind_scene(self, arena, furniture, assembly, control_timestep):
     self._dt = control_timestep

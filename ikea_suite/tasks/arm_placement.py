@@ -175,7 +175,7 @@ def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preasse
 
   Args:
     furniture: the Furniture prop.
-    reach_zone: (base xy, base rotation, reach m) as the arm states it.
+    reach_zone: (base xy, base rotation, reach m, sector half-angle rad) as the arm states it.
     spread: width (m) of the band parts lie in; None: all the reach allows.
     yaw_range: largest |yaw| (rad) of a part.
     preassembled: connections made before the episode (int or (low, high)).
@@ -190,6 +190,6 @@ def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preasse
       continue
     if not placement.is_number(value) or not 0 <= value < np.inf:
       raise errors.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
-  base_xy, base_rot, reach = reach_zone
-  return ReachableParts(furniture, base_xy, base_rot, reach, spread=spread,
+  base_xy, base_rot, reach, sector = reach_zone
+  return ReachableParts(furniture, base_xy, base_rot, reach, sector=sector, spread=spread,
                         yaw_range=float(yaw_range), preassembled=preassembled, support=support)

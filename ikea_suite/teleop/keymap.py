@@ -51,8 +51,8 @@ def check_layout(action_names: list[str]) -> int:
                 for i, entry in enumerate(TASK_SPACE_LAYOUT)))
   if not ok:
     raise errors.OptionValueError(
-        "keyboard teleoperation drives the Cursor or an arm with control_mode='task_space'; "
-        f"got actions {', '.join(action_names)}")
+        "keyboard teleoperation drives the Cursor or an arm with control_mode 'task_space' or "
+        f"'impedance'; got actions {', '.join(action_names)}")
   return agents
 
 
