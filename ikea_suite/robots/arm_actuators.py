@@ -52,7 +52,7 @@ def impedance_stiffness(value, mode):
   return tuple(float(v) for v in value)
 
 
-def add(root, arm, mode, kp_per_nm, mount=None, home_q=None, stiffness=IMPEDANCE_STIFFNESS):
+def add(root, arm, mode, kp_per_nm, mount, home_q, stiffness):
   """Adds one arm's actuators under MJCF `root` and returns them.
 
   Impedance only: `mount` is the fixed body the target site sits on, `home_q`

@@ -83,9 +83,7 @@ class Manipulator(base.Robot):
                                     f"got {camera_size.tolist()!r}")
     camera_size = tuple(int(v) for v in camera_size)
     self._mjcf_root, self._arms = self._build_body(name or self.DEFAULT_NAME)
-    stiffness = arm_actuators.impedance_stiffness(impedance_stiffness, self._mode)  # None unless
-    for arm in [] if stiffness else self._arms:                                       # impedance
-      arm.actuators = arm_actuators.add(self._mjcf_root, arm, self._mode, self.KP_PER_NM)
+    stiffness = arm_actuators.impedance_stiffness(impedance_stiffness, self._mode)
     tcp_sites = [arm.gripper.tcp_site for arm in self._arms]
     arm_joints = [j for arm in self._arms for j in arm.joints]
     working = {arm.joints[j]: r for arm in self._arms for j, r in self.IK_WORKING_RANGES.items()}
@@ -94,7 +92,9 @@ class Manipulator(base.Robot):
     self._home_q = self._home_configuration()
     self._ik.set_posture(self._home_q)
     self._home_rot = [rot for _, rot in self._ik.tcp_poses(self._home_q)]
-    for arm in self._arms if stiffness else []:   # its posture spring needs the home angles
+    # Arm actuators after the home pose, which impedance's posture spring pulls towards
+    # (the IK's own compiled model moves no actuator and needs none).
+    for arm in self._arms:
       home = self._home_q[self._ik.qpos_index[[list(self._ik.joints).index(j) for j in arm.joints]]]
       arm.actuators = arm_actuators.add(self._mjcf_root, arm, self._mode, self.KP_PER_NM,
                                         arm.joints[0].parent.parent, home, stiffness)
@@ -269,11 +269,15 @@ class Manipulator(base.Robot):
   def apply_action(self, physics, action, random_state):
     action = np.asarray(action).reshape(len(self._arms), -1)
     data = physics.data
-    if self._mode in (control_modes.TASK_SPACE, control_modes.TASK_SPACE_POSE):
-      self._track_task_space(physics, action)
-    elif self._mode == control_modes.IMPEDANCE:   # springs to the targets, ctrl stays 0
+    if self._mode in control_modes.DELTA_TARGETS:
       self._targets.apply_deltas(action, data.site_xpos[self._tcp_ids])
+    elif self._mode == control_modes.TASK_SPACE_POSE:
+      for i in range(len(self._arms)):
+        self._targets.apply_pose(i, action[i], self._base_rot @ self._home_rot[i])
+    if self._mode == control_modes.IMPEDANCE:   # springs pull the tools there; ctrl stays 0
       self._impedance.place(physics, self._targets.pos, self._targets.rot)
+    elif self._mode in (control_modes.TASK_SPACE, control_modes.TASK_SPACE_POSE):
+      self._track_task_space(physics)
     elif self._mode == control_modes.JOINT_POSITION:
       for i in range(len(self._arms)):
         data.ctrl[self._arm_act[i]] = control_modes.joint_targets(
@@ -285,13 +289,9 @@ class Manipulator(base.Robot):
     fraction = (np.minimum(np.maximum(action[:, -1:], -1.0), 1.0) + 1.0) / 2.0
     data.ctrl[self._finger_act] = self._finger_open + fraction * self._finger_travel
 
-  def _track_task_space(self, physics, action):
+  def _track_task_space(self, physics):
+    """Joint targets for the position actuators from the task-space targets, by IK."""
     data = physics.data
-    if self._mode == control_modes.TASK_SPACE:
-      self._targets.apply_deltas(action, data.site_xpos[self._tcp_ids])
-    else:
-      for i in range(len(self._arms)):
-        self._targets.apply_pose(i, action[i], self._base_rot @ self._home_rot[i])
     targets = self._targets.in_frame(self._base_pos, self._base_rot)
     q = self._ik.step(data.qpos[self._ik_to_qpos], targets, self._dt)
     data.ctrl[self._arm_act_flat] = q[self._arm_from_ik]
