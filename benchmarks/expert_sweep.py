@@ -4,6 +4,7 @@
     python benchmarks/expert_sweep.py --robots jaco --models table_four_leg_lack --processes 2
     python benchmarks/expert_sweep.py --robots sawyer --models table_four_leg_lack --arena work_table
     python benchmarks/expert_sweep.py --robots sawyer --graspable --num-models 129
+    python benchmarks/expert_sweep.py --join sweep_5000.log sweep_5010.log
 
 For each robot, one row per model: the scale it runs at (the robot's
 WORK_SCALE unless --scale), parts, complete assemblies / seeds, mean
@@ -112,7 +113,17 @@ def main(argv=None):
   parser.add_argument("--graspable", action="store_true",
                       help="skip, naming the part, models with a loose part the robot's gripper "
                            "cannot take as it lies (experts/feasibility.py)")
+  parser.add_argument("--join", nargs="+", default=None, metavar="LOG",
+                      help="run nothing: print the tables of the episodes these sweeps' "
+                           "output logs hold (one JSON line each), e.g. two seed ranges")
   args = parser.parse_args(argv)
+  if args.join:
+    rows = [json.loads(line) for log in args.join for line in open(log) if line.startswith("{")]
+    for robot in dict.fromkeys(r["robot"] for r in rows):
+      mine = sorted((r for r in rows if r["robot"] == robot), key=lambda r: r["seed"])
+      print_table(robot, mine)
+      print(f"total {sum(r['complete'] for r in mine)}/{len(mine)}")
+    return 0
   from ikea_suite.robots import registry
   models = args.models or default_models(args.num_models)
   jobs = []

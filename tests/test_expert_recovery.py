@@ -87,3 +87,30 @@ def test_an_arm_taking_over_remembers_its_stalled_grasps_until_a_connection():
   right._connections = -1   # a connection made since this arm last worked
   right.take_over()
   assert not right._stalled_grasps
+
+
+def test_an_arm_folded_against_its_limits_is_brought_home_by_task_space_actions():
+  # The Sawyer as a tuning episode (table_four_leg_lack, seed 3) left it: shoulder, elbow
+  # and wrist at the limits the IK keeps them in. Servoed straight to its home tool pose
+  # from there, the arm stayed folded 0.57 m short; the Unwinder's joint-space path gets it
+  # home through nothing but task-space actions.
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=0, scale=0.5)
+  env.reset()
+  robot, physics = env.task.robot, env.physics
+  physics.bind(robot.arms[0].joints).qpos = [0.85, 0.23, -1.19, 2.89, 2.01, 1.75, 4.70]
+  physics.forward()
+  unwinder = arm_motion.Unwinder()
+  assert unwinder.distance_from_home(robot, physics, 0) > 1.0
+  unwinder.start(robot, physics, 0)
+  action = np.zeros(env.action_spec().shape)
+  action[6] = -1.0   # fingers open
+  for _ in range(200):
+    if unwinder.done:
+      break
+    action[:6] = unwinder(robot, physics, 0)
+    env.step(action)
+  assert unwinder.done
+  assert unwinder.distance_from_home(robot, physics, 0) < 0.25   # home branch; the posture settles it
+  home_pos, home_rot = robot.home_tcp_poses()[0]
+  distance, angle = arm_motion.pose_error(robot, physics, 0, home_pos, home_rot)
+  assert distance < 0.02 and angle < 0.05

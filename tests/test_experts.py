@@ -64,15 +64,17 @@ def test_baxter_expert_gives_each_part_to_the_arm_on_its_side(seed):
   assert expert.active_arm == (0 if right_of_torso else 1)
 
 
-def test_sawyer_expert_connects_legs_of_the_half_size_lack_table():
-  # Measured on seed 3: 3 of 4 legs; full assemblies are in the sweep (README).
+def test_sawyer_expert_assembles_the_half_size_lack_table():
+  # Seed 3 left the arm folded at its joint limits after the third leg, and it stalled on
+  # the fourth for the rest of the episode (3 of 4 legs); it unwinds home now. Success
+  # rates are in the sweep (README).
   env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=3, scale=0.5)
   expert = experts.make_expert(env)
   timestep = env.reset()
   expert.reset()
   while not timestep.last() and not env.task.state.complete:
     timestep = env.step(expert(timestep))
-  assert len(env.task.state.connections) >= 2   # legs joined through the action vector
+  assert env.task.state.complete   # every leg joined through the action vector
 
 
 def test_expert_supported_pairs_are_loadable_pairs():

@@ -16,15 +16,16 @@ from ikea_suite import geometry
 from ikea_suite.oracle import arm_motion
 from ikea_suite.oracle import clearance
 from ikea_suite.oracle import jobs
+from ikea_suite.oracle import mating
 from ikea_suite.oracle import sensing
 from ikea_suite.oracle import targets
 from ikea_suite.robots import control_modes
-from ikea_suite.tasks import planner
 
-_ANY_TWIST_GRID = np.radians(np.arange(0, 360, 45))
 # The open fingers go down to a part slowly: at full speed the hand swings sideways by
 # up to 2.6 cm (Sawyer, 7 cm descent in 3 steps) and a finger lands on the part.
 DESCEND_GAIN = 0.3
+# Rad of any joint from home beyond which the arm goes home in joint space between parts.
+UNWIND_FROM = 1.0
 
 
 class Phase(enum.Enum):
@@ -37,6 +38,7 @@ class Phase(enum.Enum):
   RELEASE = "release"   # open the gripper on the joined part
   RETREAT = "retreat"   # back off before the next part
   PUT_BACK = "put_back"   # set a part down where it was taken, to take it another way
+  UNWIND = "unwind"     # back to the home joint configuration along a joint-space path
 
 
 class ArmAssemblyController:
@@ -61,6 +63,7 @@ class ArmAssemblyController:
     self._surface = env.task.arena.support.height
     self._clearance = clearance.AssemblyClearance(env, arm, self._surface)
     self._servo = arm_motion.PoseServo()
+    self._unwinder = arm_motion.Unwinder()
     self._carry_watch = arm_motion.ProgressWatch(window=80)
     self.reset()
 
@@ -140,69 +143,17 @@ class ArmAssemblyController:
     for sign in (1.0, -1.0):
       point, rot = self._grasp_pose(moving, sign)
       grip = (part_rot.T @ (point - part_pos), part_rot.T @ rot)
-      plan = self._plan_mating(moving, grip)
+      plan = mating.plan_mating(self._env, self._arm, moving, self._approach,
+                                self._failed_plans, grip)
       # A grasp the last wrist joint cannot turn to stalls the reach before any mating.
       # The other grasp first after this one stalled: the IK's local minimum (e.g. the
       # Panda's last joint at its limit) tends to be met again from the same pose.
-      score = self._reach_cost(point + [0.0, 0.0, self._hover], rot) + (
+      score = mating.reach_cost(self._robot, physics, self._arm,
+                                point + [0.0, 0.0, self._hover], rot) + (
           10.0 if plan is None else plan[0]) + 5.0 * ((moving, sign) in self._stalled_grasps)
       if best is None or score < best[0]:
         best = (score, sign)
     return best[1]
-
-  def _plan_mating(self, moving, grip=None):
-    """(score, pair, twist) for the held part: the mate and twist the arm reaches best.
-
-    Each candidate's pre-insertion tool pose is solved by IK; misses, joint travel,
-    joints near their limits and a wrist cramped beside the base cost. `grip`
-    (tool pose in the part frame) defaults to the measured one.
-    """
-    task, physics, robot = self._env.task, self._env.physics, self._robot
-    table, state = task.furniture.connectors, task.state
-    groups = state.group_labels()
-    base_pos, _ = robot.base_pose
-    part_xy = task.furniture.part_poses(physics)[0][moving][:2]
-    centre, _ = targets.assembly_circle(physics, task.furniture, task.root_part)
-    best = None
-    for pair in np.flatnonzero(planner.open_pairs(table, state)):
-      parts = {int(table.part[table.pair_a[pair]]), int(table.part[table.pair_b[pair]])}
-      if moving not in parts or groups[(parts - {moving}).pop()] != groups[task.root_part]:
-        continue
-      twists = _ANY_TWIST_GRID if table.any_twist[pair] else (
-          table.twist_angles[pair][table.twist_valid[pair]])
-      for twist in twists:
-        if (int(pair), float(twist)) in self._failed_plans:
-          continue
-        part_pos, part_rot, side = targets.mated_part_pose(
-            physics, task.furniture, pair, moving, twist)
-        goal_pos, goal_rot = self._tool_goal_for_part(
-            moving, part_pos + self._approach * side, part_rot, grip)
-        # A wrist folded in beside the base is cramped: the differential IK stalls there.
-        wrist = goal_pos - 0.25 * goal_rot[:, 2]
-        cramped = max(0.0, 0.45 - np.linalg.norm(wrist[:2] - base_pos[:2]))
-        # A hand reaching in from the middle of the assembly strikes the parts already on
-        # it and drags the assembly along: come in from outside.
-        inward = max(0.0, np.linalg.norm(goal_pos[:2] - centre) - np.linalg.norm(wrist[:2] - centre))
-        score = (self._reach_cost(goal_pos, goal_rot) + 2.0 * cramped + 2.0 * inward
-                 + 0.3 * np.linalg.norm(goal_pos[:2] - part_xy))   # prefer mates nearby
-        if best is None or score < best[0]:
-          best = (score, int(pair), float(twist))
-    return best
-
-  def _reach_cost(self, goal_pos, goal_rot):
-    """IK miss, joint travel and joints near their limits of a tool pose: lower is easier."""
-    miss, margin, travel = self._robot.reach_check(self._env.physics, self._arm, goal_pos, goal_rot)
-    return miss + 0.02 * travel + np.maximum(0.0, 0.3 - margin).sum()
-
-  def _tool_goal_for_part(self, part, part_goal_pos, part_goal_rot, grip=None):
-    """Tool pose that puts the held part at the goal, using the measured grip by default."""
-    if grip is None:
-      physics, furniture = self._env.physics, self._env.task.furniture
-      part_pos, part_rot = targets.part_pose(physics, furniture, part)
-      tcp_pos, tcp_rot = self._robot.tcp_pose(physics, self._arm)
-      grip = part_rot.T @ (tcp_pos - part_pos), part_rot.T @ tcp_rot
-    grip_pos, grip_rot = grip
-    return part_goal_pos + part_goal_rot @ grip_pos, part_goal_rot @ grip_rot
 
   def _holding(self, part):
     return sensing.holding(self._env.physics, self._robot, self._arm,
@@ -229,7 +180,7 @@ class ArmAssemblyController:
       self._counter, self._stalled = 1, 0
       if self._job is not None:
         self._grasp_sign = self._choose_grasp_sign(self._job[1])
-    if self._job is None and self.phase not in (Phase.RELEASE, Phase.RETREAT):
+    if self._job is None and self.phase not in (Phase.RELEASE, Phase.RETREAT, Phase.UNWIND):
       return action
     pair, moving = self._job if self._job else (None, None)
     phase = self.phase
@@ -247,8 +198,7 @@ class ArmAssemblyController:
       if self._stalled > self._stall_steps:   # cannot get there: try another part
         self._unreachable.add(moving)
         self._stalled_grasps.add((moving, self._grasp_sign))
-        self.phase, self._counter, self._stalled = Phase.RETREAT, 0, 0
-        self._grasp = self._robot.home_tcp_poses()[arm]   # back home before the next part
+        self._unwind()   # home before the next part
         if len(self._unreachable) >= len(task.furniture.parts):
           self._unreachable = set()
       elif phase == Phase.REACH and distance < 0.02 and angle < 0.05:
@@ -277,10 +227,12 @@ class ArmAssemblyController:
         self._stalled_grasps.add((moving, self._grasp_sign))
         if (moving, -self._grasp_sign) in self._stalled_grasps:
           self._unreachable.add(moving)
-        self.phase, self._counter, self._plan = Phase.REACH, 0, None
+        self._plan = None
+        self._to_next_reach()
         return action
       if self._plan is None:
-        self._plan, self._carrying = self._plan_mating(moving), True
+        self._plan, self._carrying = mating.plan_mating(
+            env, arm, moving, self._approach, self._failed_plans), True
         self._carry_watch.reset()
         if self._plan is not None:
           self._plan = self._plan[1:]
@@ -305,8 +257,10 @@ class ArmAssemblyController:
         return action
       part_pos, part_rot, side = targets.mated_part_pose(
           physics, task.furniture, pair, moving, twist)
-      offset = self._approach if phase == Phase.ALIGN else 0.004
-      goal = self._tool_goal_for_part(moving, part_pos + offset * side, part_rot)
+      # Inserting, stop 0.4 of the connect distance short (4 mm at scale 0.5), which shrinks
+      # with the furniture: a fixed 4 mm lay outside scale 0.22's 0.9 x 4.4 mm tolerance.
+      offset = self._approach if phase == Phase.ALIGN else 0.4 * task.thresholds.distance
+      goal = mating.tool_goal_for_part(env, arm, moving, part_pos + offset * side, part_rot)
       if self._carrying:   # first over the goal at carry height, then down to it
         high = goal[0] + [0.0, 0.0, max(0.0, self._surface + self._carry - goal[0][2])]
         # Turning slowly keeps a held part from swinging out of the fingers.
@@ -336,7 +290,7 @@ class ArmAssemblyController:
     elif phase == Phase.PUT_BACK:
       # Over the spot it was taken from at the height it stalled at, down, and let go.
       if not self._holding(moving):
-        self.phase, self._counter = Phase.REACH, 0
+        self._to_next_reach()
         return action
       spot, rot = self._grasp
       goal = [spot + [0.0, 0.0, z] for z in (self._put_back_height, self._lift, 0.008)][
@@ -367,8 +321,22 @@ class ArmAssemblyController:
           self._grasp[0])), self._grasp[1])
       self._counter += 1
       if arm_motion.pose_error(robot, physics, arm, *self._grasp)[0] < 0.03 or self._counter > 40:
-        self.phase, self._counter = Phase.REACH, 0
+        self._to_next_reach()
+    elif phase == Phase.UNWIND:
+      poses[:] = self._unwinder(robot, physics, arm)
+      if self._unwinder.done:
+        self.phase, self._counter, self._stalled = Phase.REACH, 0, 0
     return action
+
+  def _unwind(self):
+    self._unwinder.start(self._robot, self._env.physics, self._arm)
+    self.phase, self._counter, self._stalled = Phase.UNWIND, 0, 0
+
+  def _to_next_reach(self):
+    """On to the next reach, by way of home when the arm has wound far from it."""
+    self.phase, self._counter = Phase.REACH, 0
+    if self._unwinder.distance_from_home(self._robot, self._env.physics, self._arm) > UNWIND_FROM:
+      self._unwind()
 
   def _pinned(self):
     """A joint of the arm at the limit the IK keeps it in (within 0.02 rad)."""

@@ -118,6 +118,74 @@ class PoseServo:
     return np.concatenate([move, turn])
 
 
+class Unwinder:
+  """Task-space actions that bring one arm back to its home joint configuration.
+
+  The tool follows the poses of a straight joint-space path from the present joints to
+  home, computed by forward kinematics: each lies next to where the arm already is, so
+  the differential IK tracks them from any configuration. A straight tool path home does
+  not: from an arm folded against its limits the IK stays folded (Sawyer, tuning seed 3:
+  shoulder, elbow and wrist pinned, home 0.57 m out of reach, the same far part stalled
+  every reach for the rest of the episode).
+  """
+
+  def __init__(self, max_joint_step=0.15, steps_per_waypoint=6):
+    self._max_joint_step, self._steps_per_waypoint = max_joint_step, steps_per_waypoint
+    self._servo = PoseServo()
+    self.waypoints = []
+
+  @staticmethod
+  def distance_from_home(robot, physics, arm):
+    """Largest angle (rad) of any of the arm's joints from its home angle."""
+    q = robot.arm_qpos(physics)
+    index = robot.ik.qpos_index[robot.ik_joint_indices(arm)]
+    return float(np.abs(_home_nearest(robot, q)[index] - q[index]).max())
+
+  def start(self, robot, physics, arm):
+    """Plans the path from the present joints; then call until `done`."""
+    q = robot.arm_qpos(physics)
+    index = robot.ik.qpos_index[robot.ik_joint_indices(arm)]
+    travel = _home_nearest(robot, q)[index] - q[index]
+    count = max(1, int(np.ceil(np.abs(travel).max() / self._max_joint_step)))
+    base_pos, base_rot = robot.base_pose
+    self.waypoints = []
+    for k in range(1, count + 1):
+      path_q = q.copy()
+      path_q[index] += travel * (k / count)
+      pos, rot = robot.ik.tcp_poses(path_q)[arm]
+      self.waypoints.append((base_rot @ pos + base_pos, base_rot @ rot))
+    self._servo.reset()
+    self._counter = 0
+
+  @property
+  def done(self):
+    return not self.waypoints
+
+  def __call__(self, robot, physics, arm):
+    """Task-space action entries (6) for this control step, towards the next waypoint."""
+    goal = self.waypoints[0]
+    action = self._servo(robot, physics, arm, *goal)
+    self._counter += 1
+    distance, angle = pose_error(robot, physics, arm, *goal)
+    last = len(self.waypoints) == 1
+    # On when there, or after a few steps (the last waypoint is waited for longer).
+    if ((distance < 0.02 and angle < 0.05)
+        or (self._counter >= self._steps_per_waypoint and not last)
+        or self._counter >= 4 * self._steps_per_waypoint):
+      self.waypoints.pop(0)
+      self._counter = 0
+    return action
+
+
+def _home_nearest(robot, q):
+  """The IK's home joint vector, endless joints turned by whole turns to lie nearest q."""
+  home = robot.ik.posture
+  low, _ = robot.ik.limits
+  endless = ~np.isfinite(low)
+  home[endless] += 2 * np.pi * np.round((q[endless] - home[endless]) / (2 * np.pi))
+  return home
+
+
 def joint_margins(robot, physics, arm):
   """Per-joint distance (rad) of an arm's joints to the limits its IK keeps them in."""
   low, high = robot.ik.limits

@@ -73,6 +73,11 @@ class DifferentialIK:
     self._posture.set_target(self._posture_q)
     self._qp.set_posture_target(self._posture_q)
 
+  @property
+  def posture(self):
+    """The joint vector the posture task pulls towards (the robot's home configuration)."""
+    return self._posture_q.copy()
+
   def _wrap_posture(self, q):
     if self._posture_q is None or not len(self._endless_qpos):
       return
