@@ -132,20 +132,23 @@ class Unwinder:
   def __init__(self, max_joint_step=0.15, steps_per_waypoint=6):
     self._max_joint_step, self._steps_per_waypoint = max_joint_step, steps_per_waypoint
     self._servo = PoseServo()
-    self.waypoints = []
+    self.waypoints, self._counter = [], 0
 
   @staticmethod
-  def distance_from_home(robot, physics, arm):
-    """Largest angle (rad) of any of the arm's joints from its home angle."""
+  def _travel(robot, physics, arm):
+    """(IK joint vector now, the arm's indices in it, their angles (rad) to home)."""
     q = robot.arm_qpos(physics)
     index = robot.ik.qpos_index[robot.ik_joint_indices(arm)]
-    return float(np.abs(_home_nearest(robot, q)[index] - q[index]).max())
+    return q, index, robot.ik.posture_near(q)[index] - q[index]
+
+  @classmethod
+  def distance_from_home(cls, robot, physics, arm):
+    """Largest angle (rad) of any of the arm's joints from its home angle."""
+    return float(np.abs(cls._travel(robot, physics, arm)[2]).max())
 
   def start(self, robot, physics, arm):
     """Plans the path from the present joints; then call until `done`."""
-    q = robot.arm_qpos(physics)
-    index = robot.ik.qpos_index[robot.ik_joint_indices(arm)]
-    travel = _home_nearest(robot, q)[index] - q[index]
+    q, index, travel = self._travel(robot, physics, arm)
     count = max(1, int(np.ceil(np.abs(travel).max() / self._max_joint_step)))
     base_pos, base_rot = robot.base_pose
     self.waypoints = []
@@ -175,15 +178,6 @@ class Unwinder:
       self.waypoints.pop(0)
       self._counter = 0
     return action
-
-
-def _home_nearest(robot, q):
-  """The IK's home joint vector, endless joints turned by whole turns to lie nearest q."""
-  home = robot.ik.posture
-  low, _ = robot.ik.limits
-  endless = ~np.isfinite(low)
-  home[endless] += 2 * np.pi * np.round((q[endless] - home[endless]) / (2 * np.pi))
-  return home
 
 
 def joint_margins(robot, physics, arm):

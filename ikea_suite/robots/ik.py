@@ -73,17 +73,18 @@ class DifferentialIK:
     self._posture.set_target(self._posture_q)
     self._qp.set_posture_target(self._posture_q)
 
-  @property
-  def posture(self):
-    """The joint vector the posture task pulls towards (the robot's home configuration)."""
-    return self._posture_q.copy()
+  def posture_near(self, q):
+    """The posture target (the robot's home joints), each endless joint turned by whole
+    turns to lie nearest its angle in q."""
+    target = self._posture_q.copy()
+    index = self._endless_qpos
+    target[index] += 2 * np.pi * np.round((q[index] - target[index]) / (2 * np.pi))
+    return target
 
   def _wrap_posture(self, q):
     if self._posture_q is None or not len(self._endless_qpos):
       return
-    target = self._posture_q.copy()
-    index = self._endless_qpos
-    target[index] += 2 * np.pi * np.round((q[index] - target[index]) / (2 * np.pi))
+    target = self.posture_near(q)
     self._posture.set_target(target)
     self._qp.set_posture_target(target)
 
