@@ -33,7 +33,11 @@ class Environment(composer.Environment):
   substep. When no entity needs per-substep hooks and no observable is due
   before the last substep, this class advances all substeps in one
   `physics.step(n)` call, which is the same integration; otherwise it runs
-  composer's loop. Either way a MuJoCo warning ends the episode with a reason.
+  composer's loop. When moreover every observable is plain (one-entry buffer,
+  no delay, no aggregator, sampled every substep: composer's defaults), the
+  observation is read straight from the observables after the step, the very
+  values composer's buffers would hand back, without scheduling and buffering
+  them. Either way a MuJoCo warning ends the episode with a reason.
   """
 
   def __init__(self, task, **kwargs):
@@ -47,6 +51,7 @@ class Environment(composer.Environment):
     self._checked_spec = None
     self._termination_reason = None
     self._trivial_substeps = None
+    self._plain_observables = None
 
   @property
   def termination_reason(self):
@@ -57,6 +62,7 @@ class Environment(composer.Environment):
 
   def reset(self):
     self._termination_reason = None
+    self._plain_observables = None   # the updater rebuilds its observables on reset
     return super().reset()
 
   @property
@@ -72,6 +78,7 @@ class Environment(composer.Environment):
   def _recompile_physics_and_update_observables(self):
     super()._recompile_physics_and_update_observables()
     self._trivial_substeps = None   # hooks are refreshed only here
+    self._plain_observables = None
 
   def _substep_hooks_trivial(self):
     if self._trivial_substeps is None:
@@ -92,20 +99,43 @@ class Environment(composer.Environment):
     return all(not e.update_schedule or e.update_schedule[0][0] >= first_due
                for e in updater._enabled_list)
 
+  def _direct_observables(self):
+    """[(name, observation callable)] when every enabled observable is plain, else None.
+
+    A plain observable (one-entry buffer, no delay, no aggregator, update interval 1)
+    shows after each control step a copy of its value at the step's last substep, so
+    reading it then is what composer's updater returns. Reads the updater's
+    `_is_nested` and `_enabled_structure` (tests/test_environment_internals.py pins them).
+    """
+    if self._plain_observables is None:
+      updater = self._observation_updater
+      plain = not updater._is_nested and all(
+          e.buffer_size == 1 and e.delay == 0 and e.update_interval == 1
+          and e.observable.aggregator is None for e in updater._enabled_structure.values())
+      self._plain_observables = (
+          [(name, e.observation_callable) for name, e in updater._enabled_structure.items()]
+          if plain else False)
+    return self._plain_observables or None
+
   def step(self, action):
     if self._reset_next_step:
       return super().step(action)
     action = check_action(action, self.action_spec(), self._action_names)
     self._hooks.before_step(self._physics_proxy, action, self._random_state)
     updater = self._observation_updater
-    updater.prepare_for_next_control_step()
     # Batched: all substeps in one call when nothing needs Python between them;
     # otherwise composer's own loop of substep hooks and observation updates.
-    batched = self._substep_hooks_trivial() and self._nothing_due_before_last_substep()
+    direct = self._direct_observables() if self._substep_hooks_trivial() else None
+    if direct is None:
+      updater.prepare_for_next_control_step()
+      batched = self._substep_hooks_trivial() and self._nothing_due_before_last_substep()
+    else:
+      batched = True   # plain observables are due at the last substep only
     try:
       if batched:
         self._physics.step(self._n_sub_steps)
-        updater._step_counter += self._n_sub_steps - 1   # the updates that had nothing due
+        if direct is None:
+          updater._step_counter += self._n_sub_steps - 1   # the updates that had nothing due
       else:
         for i in range(self._n_sub_steps):
           self._substep(action)
@@ -117,7 +147,10 @@ class Environment(composer.Environment):
       self._termination_reason = str(e)
       logging.warning("ikea_suite: episode ended at t=%.3f s: %s", self._physics.time(), e)
     self._hooks.after_step(self._physics_proxy, self._random_state)
-    updater.update()
+    if direct is None:
+      updater.update()
+    else:   # np.array copies, as the buffer does on insert
+      observation = {name: np.array(read()) for name, read in direct}
     if divergent:
       reward, discount, last = 0.0, 0.0, True
     else:
@@ -127,7 +160,8 @@ class Environment(composer.Environment):
       if complete:
         self._termination_reason = "complete"
       last = complete or self._physics.time() >= self._time_limit
-    observation = updater.get_observation()
+    if direct is None:
+      observation = updater.get_observation()
     if last:
       self._reset_next_step = True
       return dm_env.TimeStep(dm_env.StepType.LAST, reward, discount, observation)

@@ -17,6 +17,20 @@ def test_the_observation_updater_internals_it_reads_exist():
   assert isinstance(updater, updater_lib.Updater)
   assert isinstance(updater._step_counter, int)
   assert all(hasattr(entry, "update_schedule") for entry in updater._enabled_list)
+  assert updater._is_nested is False
+  assert set(updater._enabled_structure) == set(env.observation_spec())
+  assert all(isinstance(entry, updater_lib._EnabledObservable)
+             for entry in updater._enabled_structure.values())
+
+
+def test_default_observables_are_read_directly_and_others_through_the_buffers():
+  env = ikea_suite.load(FURNITURE, seed=0)
+  env.reset()
+  assert env._direct_observables() is not None
+  env.task.furniture.observables.part_positions.delay = 2
+  env._recompile_physics_and_update_observables()
+  env.reset()
+  assert env._direct_observables() is None
 
 
 def _pair(configure=None):
@@ -53,11 +67,20 @@ def _assert_same(first, second):
     assert a.keys() == b.keys()
     for key in a:
       np.testing.assert_array_equal(a[key], b[key], err_msg=key)
+      assert a[key].dtype == b[key].dtype and a[key].shape == b[key].shape, key
 
 
 def test_batched_substeps_match_composers_step():
   ours, plain = _pair()
   actions = _actions(ours)
+  _assert_same(_rollout(ours, actions), _rollout(plain, actions))
+
+
+def test_a_delayed_observable_matches_composers_step():
+  def delayed(task):   # buffered and delayed: read through composer's updater
+    task.furniture.observables.part_positions.delay = 3
+  ours, plain = _pair(delayed)
+  actions = _actions(ours, steps=6)
   _assert_same(_rollout(ours, actions), _rollout(plain, actions))
 
 

@@ -13,6 +13,7 @@ class AssemblyState:
 
   def reset(self):
     self._parent = list(range(self._num_parts))
+    self._num_groups = self._num_parts   # kept by connect: read twice every control step
     self.connector_used = np.zeros(self._num_connectors, dtype=bool)
     self.adjacency = np.zeros((self._num_parts, self._num_parts))
     self.connections = []   # (connector_a, connector_b) in the order they were made
@@ -36,7 +37,10 @@ class AssemblyState:
     return np.array([self.group_of(p) for p in range(self._num_parts)])
 
   def connect(self, part_a, part_b, connector_a, connector_b):
-    self._parent[self.group_of(part_b)] = self.group_of(part_a)
+    root_a, root_b = self.group_of(part_a), self.group_of(part_b)
+    if root_a != root_b:
+      self._parent[root_b] = root_a
+      self._num_groups -= 1
     self.connector_used[[connector_a, connector_b]] = True
     self.adjacency[part_a, part_b] = self.adjacency[part_b, part_a] = 1.0
     self.connections.append((connector_a, connector_b))
@@ -49,7 +53,7 @@ class AssemblyState:
 
   @property
   def num_groups(self):
-    return len({self.group_of(p) for p in range(self._num_parts)})
+    return self._num_groups
 
   @property
   def complete(self):
