@@ -74,3 +74,15 @@ def test_session_records_kept_episodes_that_replay_exactly(tmp_path):
     assert f["data/demo_1"].attrs["num_samples"] == 40
     assert f["data/demo_0/subtask/phase"][0] == b"teleop"
   assert all(r.max_divergence == 0.0 for r in replay.replay_file(path))
+
+
+def test_teleop_options_open_arms_in_either_task_space_delta_mode():
+  from ikea_suite.teleop import cli
+  assert cli.load_options("cursor") == {}
+  assert cli.load_options("sawyer") == {"control_mode": "task_space"}
+  options = cli.load_options("panda", "impedance", 0.5)
+  assert options == {"control_mode": "impedance", "scale": 0.5}
+  env = hdf5.load_env(hdf5.env_args("table_four_leg_lack", "panda", options))
+  assert keymap.KeyboardCommand(env.task.action_names).num_agents == 1
+  with pytest.raises(ikea_suite.IkeaSuiteError, match="control_mode"):   # the Cursor has none
+    hdf5.load_env(hdf5.env_args("table_four_leg_lack", "cursor", cli.load_options("cursor", "impedance")))
