@@ -127,11 +127,14 @@ class ArmAssemblyController:
     # clearance is still gripped at its widest (the pads reach down past the tool
     # centre); aiming lower pressed the fingertips into the floor, and a 13 mm leg's
     # 6.5 mm centre stayed 7.5 mm short of the descent's 6 mm gate.
+    # The box's lowest corner, not below the surface it lies on: a part lying rolled about
+    # its long axis has box corners below the floor, and fingertips aimed 3 mm above such a
+    # corner pressed on the floor and could not close (Baxter, tuning seed 1, side_oak).
     route = self._clearance
     if route.pad_below is None:   # measured at the first grasp, with the arm at home
       route.pad_below = arm_motion.fingertip_reach(self._robot, self._env.physics, self._arm)
     point = point.copy()
-    point[2] = corners[:, 2].min() + route.pad_below + 0.003
+    point[2] = max(corners[:, 2].min(), self._surface) + route.pad_below + 0.003
     closing = targets.across_long_axis(part_rot, bounds) * (self._grasp_sign if sign is None else sign)
     return point, arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
 
