@@ -39,7 +39,8 @@ class FingerPoser:
       start = model.mesh_vertadr[mesh]
       local = model.mesh_vert[start:start + model.mesh_vertnum[mesh]]
     else:
-      local = geometry.box_corners(-model.geom_aabb[g, 3:], model.geom_aabb[g, 3:]) + model.geom_aabb[g, :3]
+      half = model.geom_aabb[g, 3:]
+      local = geometry.box_corners(-half, half) + model.geom_aabb[g, :3]
     return data.geom_xpos[g] + local @ data.geom_xmat[g].reshape(3, 3).T
 
   def tcp(self):
@@ -66,20 +67,12 @@ def fingertip_reach(robot, physics, arm, samples=21):
   return farthest
 
 
-def fingertip_depth(robot, physics, arm):
-  """How far the fingers reach beyond the TCP along the approach axis as they stand now (m)."""
-  poser = FingerPoser(robot, physics, arm)
-  mujoco.mj_kinematics(poser.model.ptr, poser.data)
-  tcp_pos, approach = poser.tcp()
-  return max(float(((poser.points(g) - tcp_pos) @ approach).max()) for g in poser.geoms)
-
-
 def hold_command(gripper, short_of_closed):
   """The gripper action that aims the fingers `short_of_closed` rad before their closed
   limit (the action maps -1..1 onto open..squeeze, past the closed limit by force / kp).
 
-  For a hand that closes one finger against two (closes_against_pair): squeezed past the limit,
-  the pair bottom out on it and the single finger presses the part onto their tips,
+  For a hand that closes one finger against two (closes_against_pair): squeezed past
+  the limit, the pair bottom out on it and the single finger presses the part onto their tips,
   whose faces slope out of the hand; the part crept 0.5 mm/s out and fell during the
   carry (Jaco, stool_round_frosta tuning seed 0: 18 mm leg, 4.5 -> 11 mm in 8 s). Aimed
   short of the limit, the pair stay off it, all three pads meet the part and it crept
@@ -99,6 +92,7 @@ def closes_against_pair(robot, physics, arm):
   their closed limit they bottom out on it and shove the part towards the thumb (see
   hold_command). A parallel gripper's two equal fingers centre it."""
   return len(set(FingerPoser(robot, physics, arm).finger_of_geom.values())) > 2
+
 
 def closing_axis(robot, physics, arm):
   """The fingers' closing direction in the tool frame (unit, horizontal when pointing down):
