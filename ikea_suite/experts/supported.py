@@ -25,5 +25,5 @@ SUPPORTED = {
               "table_four_leg_w90_birch": 0.5},   # 16/20
     "baxter": {"stool_round_frosta": 0.5,         # 8/10 (both arms in 9 of 10)
                "table_four_leg_w75_black": 0.5},  # 8/10 (both arms in 10 of 10)
-    "jaco": {},     # best: table_four_leg_lack 1/10
+    "jaco": {},     # best on fresh seeds 6000-6009 (fifth session): stool_round_frosta 3/10
 }

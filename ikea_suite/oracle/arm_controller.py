@@ -26,6 +26,12 @@ from ikea_suite.robots import control_modes
 DESCEND_GAIN = 0.3
 # Rad of any joint from home beyond which the arm goes home in joint space between parts.
 UNWIND_FROM = 1.0
+# A hand whose fingers curl below the tool centre closes only once it moves less than this
+# per control step (m): 1 mm still let the Jaco's hand swing 1 cm while closing.
+SETTLED_SPEED = 0.0005
+# Such a hand (one finger against two) holds a lifted part with its fingers aimed this far
+# (rad) short of their closed limit instead of past it; see arm_motion.hold_command.
+HOLD_SHORT_OF_CLOSED = 0.05
 
 
 class Phase(enum.Enum):
@@ -65,6 +71,8 @@ class ArmAssemblyController:
     self._servo = arm_motion.PoseServo()
     self._unwinder = arm_motion.Unwinder()
     self._carry_watch = arm_motion.ProgressWatch(window=80)
+    self._uneven = None   # the hand closes one finger against two (_against_pair)
+    self._hold_command = arm_motion.hold_command(robot.arms[arm].gripper, HOLD_SHORT_OF_CLOSED)
     self.reset()
 
   def reset(self):
@@ -83,6 +91,7 @@ class ArmAssemblyController:
     self._carry_stalls = {}   # part: carries that stalled, till the next connection
     self._stalled = 0
     self._inserting = 0   # control steps in the present INSERT
+    self._last_tcp = None
 
   @property
   def job(self):
@@ -138,6 +147,12 @@ class ArmAssemblyController:
     closing = targets.across_long_axis(part_rot, bounds) * (self._grasp_sign if sign is None else sign)
     return point, arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
 
+  def _against_pair(self):
+    """arm_motion.closes_against_pair for this hand, read once the model is compiled."""
+    if self._uneven is None:
+      self._uneven = arm_motion.closes_against_pair(self._robot, self._env.physics, self._arm)
+    return self._uneven
+
   def _choose_grasp_sign(self, moving):
     """Which of the two symmetric grasps the wrist reaches best and leaves the easier mating."""
     physics, furniture = self._env.physics, self._env.task.furniture
@@ -189,6 +204,8 @@ class ArmAssemblyController:
     phase = self.phase
     action[grip] = 1.0 if phase in (Phase.CLOSE, Phase.LIFT, Phase.ALIGN, Phase.INSERT,
                                     Phase.PUT_BACK) else -1.0
+    if phase != Phase.CLOSE and action[grip] > 0.0 and self._against_pair():
+      action[grip] = self._hold_command
     if phase in (Phase.REACH, Phase.DESCEND):
       point, rot = self._grasp_pose(moving)
       goal = point + [0.0, 0.0, self._hover] if phase == Phase.REACH else point
@@ -197,6 +214,7 @@ class ArmAssemblyController:
       poses[:] = self._servo(robot, physics, arm, waypoint, rot,
                              gain=1.0 if phase == Phase.REACH else DESCEND_GAIN)
       distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
+      settled = self._settled()
       self._stalled += 1
       if self._stalled > self._stall_steps:   # cannot get there: try another part
         self._unreachable.add(moving)
@@ -206,7 +224,7 @@ class ArmAssemblyController:
           self._unreachable = set()
       elif phase == Phase.REACH and distance < 0.02 and angle < 0.05:
         self.phase, self._stalled = Phase.DESCEND, 0
-      elif phase == Phase.DESCEND and distance < 0.006 and angle < 0.05:
+      elif phase == Phase.DESCEND and distance < 0.006 and angle < 0.05 and settled:
         self.phase, self._counter, self._stalled = Phase.CLOSE, 0, 0
         self._grasp = (goal, rot)
     elif phase == Phase.CLOSE:
@@ -330,6 +348,16 @@ class ArmAssemblyController:
       if self._unwinder.done:
         self.phase, self._counter, self._stalled = Phase.REACH, 0, 0
     return action
+
+  def _settled(self):
+    """The hand has come to rest, where its fingers curl below the tool centre: the Jaco's
+    arm, still moving when it met the descent's gate, dipped 6-8 mm further and swung 1 cm
+    sideways while the fingers closed, and their tips, sweeping 1 cm below the tool
+    centre, struck the floor beside the part and never closed on it (tuning seed 2)."""
+    tcp, _ = self._robot.tcp_pose(self._env.physics, self._arm)
+    last, self._last_tcp = self._last_tcp, tcp
+    return (not self._against_pair() or
+            last is not None and np.linalg.norm(tcp - last) < SETTLED_SPEED)
 
   def _unwind(self):
     self._unwinder.start(self._robot, self._env.physics, self._arm)

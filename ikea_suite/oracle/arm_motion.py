@@ -29,31 +29,69 @@ class FingerPoser:
     self.data.qpos[self._qposadr] = g.open_qpos + fraction * (g.closed_qpos - g.open_qpos)
     mujoco.mj_kinematics(self.model.ptr, self.data)
 
+  def points(self, g):
+    """World points that bound finger geom `g` in the scratch state: a mesh's vertices
+    (MuJoCo collides its convex hull, whose corners they are), else its bounding box's
+    corners. The Jaco's curved mesh fingertips reach 2 mm less than their box."""
+    model, data = self.model, self.data
+    mesh = model.geom_dataid[g] if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH else -1
+    if mesh >= 0:
+      start = model.mesh_vertadr[mesh]
+      local = model.mesh_vert[start:start + model.mesh_vertnum[mesh]]
+    else:
+      half = model.geom_aabb[g, 3:]
+      local = geometry.box_corners(-half, half) + model.geom_aabb[g, :3]
+    return data.geom_xpos[g] + local @ data.geom_xmat[g].reshape(3, 3).T
+
   def tcp(self):
     """(position, approach axis) of the tool-centre point in the scratch state."""
     return self.data.site_xpos[self.tcp_site], self.data.site_xmat[self.tcp_site].reshape(3, 3)[:, 2]
 
 
-def fingertip_reach(robot, physics, arm, samples=13):
+def fingertip_reach(robot, physics, arm, samples=21):
   """How far the fingertips reach beyond the tool-centre point along the approach axis (m).
 
   Read from the compiled model with the arm in its present pose, over the fingers'
-  whole stroke (FingerPoser): the farthest corner of any finger collision geom's
-  bounding box, relative to the TCP. Slide fingers reach equally far at every
+  whole stroke (FingerPoser): the farthest point of any finger collision geom
+  (FingerPoser.points), relative to the TCP. Slide fingers reach equally far at every
   opening; curling ones (the Jaco's hinged fingers) reach farthest part way closed,
   and that depth is what must stay clear of the floor while they close.
   """
   poser = FingerPoser(robot, physics, arm)
-  model, data = poser.model, poser.data
   farthest = 0.0
   for fraction in np.linspace(0.0, 1.0, samples):
     poser.set(fraction)
     tcp_pos, approach = poser.tcp()
     for g in poser.geoms:
-      corners = geometry.box_corners(-model.geom_aabb[g, 3:], model.geom_aabb[g, 3:])
-      world = data.geom_xpos[g] + (corners + model.geom_aabb[g, :3]) @ data.geom_xmat[g].reshape(3, 3).T
-      farthest = max(farthest, float(((world - tcp_pos) @ approach).max()))
+      farthest = max(farthest, float(((poser.points(g) - tcp_pos) @ approach).max()))
   return farthest
+
+
+def hold_command(gripper, short_of_closed):
+  """The gripper action that aims the fingers `short_of_closed` rad before their closed
+  limit (the action maps -1..1 onto open..squeeze, past the closed limit by force / kp).
+
+  For a hand that closes one finger against two (closes_against_pair): squeezed past
+  the limit, the pair bottom out on it and the single finger presses the part onto their tips,
+  whose faces slope out of the hand; the part crept 0.5 mm/s out and fell during the
+  carry (Jaco, stool_round_frosta tuning seed 0: 18 mm leg, 4.5 -> 11 mm in 8 s). Aimed
+  short of the limit, the pair stay off it, all three pads meet the part and it crept
+  1.5 mm in the same 8 s. stool_round_frosta, tuning seeds 0-9: aimed at the limit
+  itself 3/10 complete, 0.05 rad short 5/10, 0.08 short 0/10 (too weak: the leg fell
+  as it was lifted).
+  """
+  open_, closed = np.asarray(gripper.open_qpos), np.asarray(gripper.closed_qpos)
+  target = closed - short_of_closed * np.sign(closed - open_)
+  fraction = (target - open_) / (np.asarray(gripper.squeeze_qpos) - open_)
+  return float(2.0 * fraction.mean() - 1.0)
+
+
+def closes_against_pair(robot, physics, arm):
+  """True for a hand that closes one finger against several (the Jaco's thumb against two,
+  each finger with the same force limit): the pair push twice as hard, and squeezed past
+  their closed limit they bottom out on it and shove the part towards the thumb (see
+  hold_command). A parallel gripper's two equal fingers centre it."""
+  return len(set(FingerPoser(robot, physics, arm).finger_of_geom.values())) > 2
 
 
 def closing_axis(robot, physics, arm):
