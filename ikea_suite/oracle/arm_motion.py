@@ -48,7 +48,7 @@ class FingerPoser:
     return self.data.site_xpos[self.tcp_site], self.data.site_xmat[self.tcp_site].reshape(3, 3)[:, 2]
 
 
-def fingertip_reach(robot, physics, arm, samples=21):
+def fingertip_reach(robot, physics, arm, samples=13):
   """How far the fingertips reach beyond the tool-centre point along the approach axis (m).
 
   Read from the compiled model with the arm in its present pose, over the fingers'
