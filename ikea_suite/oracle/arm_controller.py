@@ -18,6 +18,7 @@ from ikea_suite.oracle import clearance
 from ikea_suite.oracle import jobs
 from ikea_suite.oracle import mating
 from ikea_suite.oracle import sensing
+from ikea_suite.oracle import small_parts
 from ikea_suite.oracle import targets
 from ikea_suite.robots import control_modes
 
@@ -131,6 +132,10 @@ class ArmAssemblyController:
     if route.pad_below is None:   # measured at the first grasp, with the arm at home
       route.pad_below = arm_motion.fingertip_reach(self._robot, self._env.physics, self._arm)
     point = point.copy()
+    if small_parts.active(self._env):   # held away from its connectors: the hand stays high
+      shift = small_parts.grip_shift(furniture, part)
+      if shift.any():
+        point = part_pos + part_rot @ shift
     point[2] = corners[:, 2].min() + route.pad_below + 0.003
     closing = targets.across_long_axis(part_rot, bounds) * (self._grasp_sign if sign is None else sign)
     return point, arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
