@@ -15,6 +15,10 @@ the supported lists were measured on are unchanged.
 
 import numpy as np
 
+# Fingertips' height (m) over the floor when closing on a part lying there (3 mm at the
+# work scale): a 4-7 mm thick part gripped over its top 1-4 mm slid out of the tips as
+# the tool turned it upright.
+TIP_CLEARANCE = 0.001
 # Room (m) left between the grasp point and the part's end for the pads to cover.
 PAD_ROOM = 0.02
 
