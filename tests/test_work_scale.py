@@ -2,6 +2,7 @@
 oracle.small_parts: what the arm expert does differently below the work scale."""
 
 import numpy as np
+import pytest
 
 import ikea_suite
 from ikea_suite.experts import feasibility
@@ -43,3 +44,27 @@ def test_a_bench_end_is_held_away_from_its_connectors_below_the_work_scale():
   # The stretcher, joined at both ends, is held at its middle.
   assert not small_parts.grip_shift(furniture, names.index("stretcher")).any()
   assert not small_parts.active(ikea_suite.load("bench_plank_pine", "sawyer", scale=0.5, seed=0))
+
+
+def _grasp_height_over_part(scale):
+  """Tool height over the underside of the first loose part at the expert's grasp pose,
+  less the fingertips' reach: the fingertips' height over the part's underside."""
+  from ikea_suite import experts
+  from ikea_suite import geometry
+  from ikea_suite.oracle import arm_motion
+  from ikea_suite.oracle import targets
+  env = ikea_suite.load("bench_plank_pine", "sawyer", scale=scale, seed=0)
+  env.reset()
+  expert = experts.make_expert(env)
+  part = 1 if env.task.root_part != 1 else 2
+  point, _ = expert._grasp_pose(part, 1.0)
+  pos, rot = targets.part_pose(env.physics, env.task.furniture, part)
+  bounds = env.task.furniture.spec.parts[part].bounds
+  bottom = (geometry.box_corners(*bounds) @ rot.T + pos)[:, 2].min()
+  return point[2] - bottom - arm_motion.fingertip_reach(env.task.robot, env.physics, 0)
+
+
+def test_fingertips_close_lower_on_parts_below_the_work_scale():
+  assert _grasp_height_over_part(0.5) == pytest.approx(0.003, abs=1e-6)
+  assert _grasp_height_over_part(0.22) == pytest.approx(small_parts.TIP_CLEARANCE, abs=1e-6)
+  assert small_parts.TIP_CLEARANCE < 0.003
