@@ -38,9 +38,9 @@ def grip_shift(furniture, part):
   table = furniture.connectors
   mean = table.local_pos[table.part == part].mean(axis=0)[axis]
   half = 0.5 * (bounds[1][axis] - bounds[0][axis])
-  if abs(mean) < 0.25 * half:
-    return np.zeros(3)
-  shift = np.zeros(3)
   centre = 0.5 * (bounds[1][axis] + bounds[0][axis])
+  shift = np.zeros(3)
+  if abs(mean - centre) < 0.25 * half:
+    return shift
   shift[axis] = centre - np.sign(mean - centre) * max(0.0, half - PAD_ROOM)
   return shift
