@@ -6,8 +6,9 @@
     python benchmarks/expert_sweep.py --robots sawyer --graspable --num-models 129
     python benchmarks/expert_sweep.py --join sweep_5000.log sweep_5010.log
 
-For each robot, one row per model: the scale it runs at (the robot's
-WORK_SCALE unless --scale), parts, complete assemblies / seeds, mean
+For each robot, one row per model: the scale it runs at (unless --scale, the robot's
+WORK_SCALE, or for furniture too wide for its gripper there the smaller scale at which
+the parts fit: experts/work_scale.py), parts, complete assemblies / seeds, mean
 connections, mean control steps and mean wall-clock seconds per episode.
 Episodes run in parallel processes (--processes). Report figures from
 seeds >= 1000: the experts were developed on seeds below 100.
@@ -102,7 +103,9 @@ def main(argv=None):
   parser.add_argument("--num-models", type=int, default=24)
   parser.add_argument("--seed-start", type=int, default=1000)
   parser.add_argument("--seeds", type=int, default=10)
-  parser.add_argument("--scale", type=float, default=None, help="default: the robot's WORK_SCALE")
+  parser.add_argument("--scale", type=float, default=None,
+                      help="default: the robot's work scale for each model (experts/work_scale.py: "
+                           "its WORK_SCALE, or the smaller scale at which the parts fit its gripper)")
   parser.add_argument("--processes", type=int, default=2)
   parser.add_argument("--time-limit", type=float, default=None,
                       help="simulated seconds per episode (default: the task's, 30 + 25 per part)")
@@ -124,14 +127,15 @@ def main(argv=None):
       print_table(robot, mine)
       print(f"total {sum(r['complete'] for r in mine)}/{len(mine)}")
     return 0
-  from ikea_suite.robots import registry
+  from ikea_suite.experts import work_scale
   models = args.models or default_models(args.num_models)
   jobs = []
   for robot in args.robots:
-    scale = args.scale or registry.get(robot).factory.WORK_SCALE
-    mine = [m for m in models if not args.graspable or graspable(robot, m, scale, args.arena)]
-    jobs += [(robot, m, scale, s, args.time_limit, args.arena, args.control_mode) for m in mine
-             for s in range(args.seed_start, args.seed_start + args.seeds)]
+    scales = {m: args.scale or work_scale.work_scale(robot, m) for m in models}
+    mine = [m for m in models
+            if not args.graspable or graspable(robot, m, scales[m], args.arena)]
+    jobs += [(robot, m, scales[m], s, args.time_limit, args.arena, args.control_mode)
+             for m in mine for s in range(args.seed_start, args.seed_start + args.seeds)]
   start = time.perf_counter()
   rows = []
   with multiprocessing.get_context("fork").Pool(args.processes) as pool:

@@ -18,6 +18,7 @@ from ikea_suite.oracle import clearance
 from ikea_suite.oracle import jobs
 from ikea_suite.oracle import mating
 from ikea_suite.oracle import sensing
+from ikea_suite.oracle import small_parts
 from ikea_suite.oracle import targets
 from ikea_suite.robots import control_modes
 
@@ -142,8 +143,13 @@ class ArmAssemblyController:
     route = self._clearance
     if route.pad_below is None:   # measured at the first grasp, with the arm at home
       route.pad_below = arm_motion.fingertip_reach(self._robot, self._env.physics, self._arm)
-    point = point.copy()
-    point[2] = max(corners[:, 2].min(), self._surface) + route.pad_below + 0.003
+    point, tip_clearance = point.copy(), 0.003
+    if small_parts.active(self._env):   # held away from its connectors: the hand stays high
+      shift = small_parts.grip_shift(furniture, part)
+      if shift.any():
+        point = part_pos + part_rot @ shift
+      tip_clearance = small_parts.TIP_CLEARANCE
+    point[2] = max(corners[:, 2].min(), self._surface) + route.pad_below + tip_clearance
     closing = targets.across_long_axis(part_rot, bounds) * (self._grasp_sign if sign is None else sign)
     return point, arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
 

@@ -1,0 +1,95 @@
+"""The scale a robot's expert assembles each furniture at: the robot's WORK_SCALE, or, for
+furniture whose loose parts are too wide for its gripper there, the largest scale at
+which every loose part fits between its closed and open fingertips.
+
+Grasp widths shrink with the scale and the gripper does not, so a bench's 0.32 m ends
+that no fingers straddle at scale 0.5 fit the Sawyer's 79 mm at about 0.2.
+`fit_scale` measures that scale from the compiled models (feasibility.grasp_problems'
+test, widths as the parts lie on seed 0 at full size); SMALL_SCALES holds its values,
+so that loading needs no measurement (`python -m ikea_suite.experts.work_scale
+--robot sawyer --models ...` prints them again; tests/test_work_scale.py checks some).
+"""
+
+import numpy as np
+
+from ikea_suite.props import scaling
+
+# robot -> {furniture: scale}: fit_scale's values for the models whose parts do not fit
+# at the robot's WORK_SCALE; every other model is assembled at WORK_SCALE.
+SMALL_SCALES = {
+    "sawyer": {"bench_plank_dark_low": 0.2,
+               "bench_plank_oak_long": 0.22,
+               "bench_plank_pine": 0.22,
+               "bench_plank_white_short": 0.22,
+               "bench_slatted_pine_three": 0.2,
+               "bookcase_shelf_unit_billy": 0.24,
+               "bookcase_shelf_unit_w60_h80_open": 0.24,
+               "box_divided_birch": 0.45,
+               "box_divided_white_long": 0.45,
+               "box_lidded_oak": 0.22,
+               "box_open_kuggis": 0.45,
+               "box_open_large_birch": 0.34,
+               "box_open_tall_black": 0.22},
+    "panda": {"bench_plank_dark_low": 0.2,
+              "bench_plank_oak_long": 0.22,
+              "bench_plank_pine": 0.22,
+              "bench_plank_white_short": 0.22,
+              "bench_slatted_pine_three": 0.2,
+              "bookcase_shelf_unit_billy": 0.24,
+              "bookcase_shelf_unit_w60_h80_open": 0.24,
+              "box_divided_birch": 0.45,
+              "box_divided_white_long": 0.45,
+              "box_lidded_oak": 0.22,
+              "box_open_kuggis": 0.45,
+              "box_open_large_birch": 0.34,
+              "box_open_tall_black": 0.22,
+              "chair_back_dark_bar": 0.22,
+              "chair_back_kids_birch": 0.22,
+              "tv_unit_bench_black": 0.23,
+              "tv_unit_bench_oak": 0.23},
+}
+
+
+def work_scale(robot, furniture):
+  """The load(scale=...) at which `robot`'s expert assembles `furniture`."""
+  from ikea_suite.robots import registry
+  default = registry.get(robot).factory.WORK_SCALE
+  return SMALL_SCALES.get(robot, {}).get(furniture, default)
+
+
+def fit_scale(robot, furniture, arm=0, clearance=0.01):
+  """The largest scale, in hundredths, no larger than the robot's WORK_SCALE, at which
+  every loose part is wider than the closed fingertips' gap and leaves `clearance`
+  within the open one; None when there is none from scaling.MIN_SCALE."""
+  import ikea_suite
+  from ikea_suite.experts import feasibility
+  from ikea_suite.robots import registry
+  env = ikea_suite.load(furniture, robot, scale=1.0, seed=0)
+  env.reset()
+  robot_, physics = env.task.robot, env.physics
+  closed = feasibility.finger_gap(physics, robot_, arm, 1.0)
+  opened = feasibility.finger_gap(physics, robot_, arm, 0.0)
+  widths = np.array([feasibility.grasp_width(env, part)
+                     for part in range(len(env.task.furniture.parts))
+                     if part != env.task.root_part])
+  largest = (opened - clearance) / widths.max()   # widths scale with the furniture
+  scale = min(registry.get(robot).factory.WORK_SCALE, np.floor(100 * largest - 1e-6) / 100)
+  if scale < scaling.MIN_SCALE or scale * widths.min() <= closed:
+    return None
+  return float(scale)
+
+
+def main(argv=None):
+  """Prints fit_scale for `--robot` and each of `--models` (default: every catalog model)."""
+  import argparse
+  from ikea_suite.props import catalog
+  parser = argparse.ArgumentParser(description=main.__doc__)
+  parser.add_argument("--robot", default="sawyer")
+  parser.add_argument("--models", nargs="+", default=None)
+  args = parser.parse_args(argv)
+  for name in args.models or catalog.names():
+    print(f"{name:40s} {fit_scale(args.robot, name)}", flush=True)
+
+
+if __name__ == "__main__":
+  main()
