@@ -37,6 +37,11 @@ class GraspProblem:
             f"fingers' gap ({1000 * closed:.0f}-{1000 * opened:.0f} mm){spare}")
 
 
+# Room (m) a part must leave within the open fingers' gap: 5 mm a side, the expert's
+# descent tolerance.
+CLEARANCE = 0.01
+
+
 def finger_gap(physics, robot, arm=0, fraction=1.0):
   """Smallest distance (m) between the first finger's tip and the other fingers' tips,
   with the fingers `fraction` of the way from open (0) to closed (1). Read on a scratch
@@ -64,11 +69,11 @@ def grasp_width(env, part):
   return float(np.ptp(corners @ targets.across_long_axis(rot, bounds)))
 
 
-def grasp_problems(env, arm=0, clearance=0.01):
+def grasp_problems(env, arm=0, clearance=CLEARANCE):
   """GraspProblems of every part but the root, as `env`'s parts lie now (after reset).
 
   A part fits when it is wider than the closed fingers' gap and leaves `clearance`
-  (5 mm a side, the expert's descent tolerance) within the open fingers' gap.
+  (CLEARANCE) within the open fingers' gap.
   """
   robot, physics = env.task.robot, env.physics
   gap = (finger_gap(physics, robot, arm, 1.0), finger_gap(physics, robot, arm, 0.0))

@@ -48,13 +48,14 @@ def work_scale(robot, furniture):
   return SMALL_SCALES.get(robot, {}).get(furniture, default)
 
 
-def fit_scale(robot, furniture, arm=0, clearance=0.01):
+def fit_scale(robot, furniture, arm=0, clearance=None):
   """The largest scale, in hundredths, no larger than the robot's WORK_SCALE, at which
   every loose part is wider than the closed fingertips' gap and leaves `clearance`
-  within the open one; None when there is none from scaling.MIN_SCALE."""
+  (default feasibility.CLEARANCE, the test grasp_problems makes) within the open one; None when there is none from scaling.MIN_SCALE."""
   import ikea_suite
   from ikea_suite.experts import feasibility
   from ikea_suite.robots import registry
+  clearance = feasibility.CLEARANCE if clearance is None else clearance
   env = ikea_suite.load(furniture, robot, scale=1.0, seed=0)
   env.reset()
   robot_, physics = env.task.robot, env.physics
