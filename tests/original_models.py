@@ -396,3 +396,23 @@ def corner_shelf(directory, name="corner_shelf"):
         (f"shelf-side,0,180,conn_site{k}", "-0.1 0 0", west),
         (f"shelf-back,0,180,conn_site{k}", "0 0.1 0", north)]))
   return _write(directory, name, bodies)
+
+
+def wall_shelf(directory, name="wall_shelf"):
+  """A wall-mounted unit: one 27 x 18 mm column 0.9 m tall with three open boxes hung on
+  one side of it (as a column of a shelving system carries its boxes). Upright, its
+  centre of mass lies beyond the column's footprint, so it cannot stand."""
+  side = "0.7071068 0 0.7071068 0"   # up +x: a box hangs on the column's face
+  bodies = [_box_body("column", "0 0 0.45", "0.0135 0.009 0.45", [
+      (f"col-box{k},0,conn_site{k}", f"0 -0.009 {z - 0.45:.3f}", side)
+      for k, z in enumerate((0.2, 0.45, 0.7))])]
+  for k, z in enumerate((0.2, 0.45, 0.7)):
+    bodies.append(f"""
+    <body name="box{k}" pos="0 -0.049 {z}">
+      <geom name="noviz_collision_box{k}_top" type="box" pos="0 0 0.057" size="0.06 0.04 0.003" density="500"/>
+      <geom name="noviz_collision_box{k}_bottom" type="box" pos="0 0 -0.057" size="0.06 0.04 0.003" density="500"/>
+      <geom name="noviz_collision_box{k}_back" type="box" pos="0 0.037 0" size="0.06 0.003 0.054" density="500"/>
+      <site name="box{k}-col,0,conn_site{k}" pos="0 0.04 0" quat="{side}" size="0.01"/>
+    </body>""")
+  return _write(directory, name, bodies)
+

@@ -408,3 +408,22 @@ def test_a_slide_leaves_behind_parts_also_mated_to_parts_that_stay(tmp_path):
   assert len(result.pairs) == 6
   report = validate.check(result.path)
   assert report.ok, report.problems
+
+
+def test_an_assembly_that_cannot_stand_upright_is_set_down_on_the_side_it_rests_on(tmp_path):
+  result = convert.convert(original_models.wall_shelf(tmp_path), tmp_path / "out")
+  turned = [n for n in result.notes if n.startswith("the assembly cannot stand upright")]
+  assert len(turned) == 1 and "turned 90 deg" in turned[0], result.notes
+  # Laid on the boxes' open fronts: the column, on the boxes' backs, ends up on top.
+  poses = _poses(result.path)
+  assert poses["column"][0][2] > max(poses[f"box{k}"][0][2] for k in range(3)) + 0.03
+  report = validate.check(result.path)
+  assert report.ok, report.problems
+
+
+def test_an_assembly_that_stands_is_not_turned(tmp_path):
+  result = convert.convert(original_models.table(tmp_path), tmp_path / "out")
+  assert not [n for n in result.notes if "cannot stand upright" in n]
+  for name, (pos, rot) in _poses(result.path).items():
+    np.testing.assert_allclose(rot, np.eye(3), atol=1e-9, err_msg=name)
+

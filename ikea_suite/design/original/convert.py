@@ -16,8 +16,9 @@ every part, with particleboard's, when any part of the file is lighter than
 any furniture material (a placeholder mass; the repair is reported).
 
 Layout: the parts take the assembled pose solved by `assemble`, each mated
-part slid along its mate's up axis until it touches its partner (`seat`), set on the
-floor (lowest collision point at z = 0) and centred. The original's initial
+part slid along its mate's up axis until it touches its partner (`seat`), turned onto
+its side if it cannot stand upright (`rest`), set on the floor (lowest collision point
+at z = 0) and centred. The original's initial
 layout, when the file has one, is kept in the metadata as `initpos.<part>`
 (see ikea_suite.props.layout).
 """
@@ -33,12 +34,14 @@ from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.design import blueprint as bp
 from ikea_suite.design import construction
+from ikea_suite.design import mass_properties
 from ikea_suite.design import materials
 from ikea_suite.design import mjcf_writer
 from ikea_suite.design import part_geoms
 from ikea_suite.design.original import assemble
 from ikea_suite.design.original import names
 from ikea_suite.design.original import reader
+from ikea_suite.design.original import rest
 from ikea_suite.design.original import seat
 from ikea_suite.design.original import trim
 
@@ -265,6 +268,25 @@ def _collision_corners(furniture, part):
   return np.concatenate(out)
 
 
+def _set_down(furniture):
+  """Turns an assembly that cannot stand upright onto the side it rests on (rest.py);
+  returns the note reporting it, if any."""
+  points = np.concatenate([_collision_corners(furniture, p) @ p.rot.T + p.pos
+                           for p in furniture.parts])
+  com = mass_properties.combine(
+      mass_properties.part_properties(p, furniture.meshes).moved(p.pos, p.rot)
+      for p in furniture.parts).com
+  turn, before, after = rest.resting_turn(points, com)
+  if np.allclose(turn, np.eye(3)):
+    return []
+  for part in furniture.parts:
+    part.pos, part.rot = turn @ part.pos, turn @ part.rot
+  angle = np.degrees(np.linalg.norm(geometry.mat_to_axis_angle(turn)))
+  return [f"the assembly cannot stand upright (its centre of mass lies {-before * 1000:.1f} mm "
+          f"outside the footprint it stands on); set down on its side instead, turned "
+          f"{angle:.0f} deg, the centre of mass {after * 1000:.1f} mm inside that side's footprint"]
+
+
 def _positive_volume(g, converter):
   if g.type == "mesh":
     return max(abs(converter.mesh(g.mesh, f"<geom name={g.name!r}>").volume), 1e-12)
@@ -335,6 +357,7 @@ def convert(source: str | pathlib.Path, out_dir: str | pathlib.Path, material: s
   pairs = [(site_names[a], site_names[b]) for a, b in solved.pairs
            if (site_names[a], site_names[b]) not in dropped]
   trim_notes = trim.trim(furniture, {part_names[b.name]: (b.pos, b.rot) for b in model.bodies})
+  rest_notes = _set_down(furniture)
   corners = np.concatenate([_collision_corners(furniture, p) @ p.rot.T + p.pos
                             for p in furniture.parts])
   shift = -np.array([*(corners[:, :2].max(0) + corners[:, :2].min(0)) / 2, corners[:, 2].min()])
@@ -344,4 +367,4 @@ def convert(source: str | pathlib.Path, out_dir: str | pathlib.Path, material: s
     furniture.metadata[f"initpos.{part_names[body]}"] = _fmt(np.concatenate([pos, quat]))
   path = mjcf_writer.write(furniture, out_dir)
   return Converted(pathlib.Path(source), path, name, len(furniture.parts), 2 * len(pairs), pairs,
-                   converter.notes + solved.notes + seat_notes + trim_notes)
+                   converter.notes + solved.notes + seat_notes + trim_notes + rest_notes)
