@@ -8,6 +8,8 @@ from ikea_suite import experts
 from ikea_suite import geometry
 from ikea_suite.oracle import arm_controller
 from ikea_suite.oracle import arm_motion
+from ikea_suite.oracle import finger_room
+from ikea_suite.oracle import targets
 
 Phase = arm_controller.Phase
 
@@ -137,6 +139,46 @@ def test_a_round_leg_lying_rolled_is_taken_with_the_fingertips_above_the_floor()
   lying_at = furniture.part_poses(physics)[0][moving][2]
   grasp_z = expert._grasp[0][2]
   assert grasp_z >= expert._clearance.pad_below + 0.003 - 1e-6   # tips 3 mm above the floor
+  while expert.phase != Phase.ALIGN:
+    timestep = env.step(expert(timestep))
+  for _ in range(3):
+    timestep = env.step(expert(timestep))
+  assert expert.job[1] == moving and expert.phase == Phase.ALIGN
+  assert furniture.part_poses(physics)[0][moving][2] > lying_at + 0.05   # lifted: held
+
+
+def test_a_leg_with_another_part_beside_its_middle_is_taken_where_the_fingers_land_clear():
+  # A leg lying across the middle of the leg to be taken: an open finger came down on it
+  # and the reach stalled there for the rest of the episode (kids_white, tuning seeds 5, 9).
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=0, scale=0.5)
+  expert = experts.make_expert(env)
+  timestep = env.reset()
+  expert.reset()
+  furniture, physics = env.task.furniture, env.physics
+  base, _ = env.task.robot.base_pose
+  legs = [k for k in range(len(furniture.parts)) if k != env.task.root_part]
+  moving, blocker, others = legs[0], legs[1], legs[2:]
+  half = furniture.spec.parts[blocker].bounds[1][2]   # legs are long along their own z
+  radius = furniture.spec.parts[moving].bounds[1][0]
+  along_x = geometry.mat_to_quat(geometry.axis_angle_to_mat([0.0, np.pi / 2, 0.0]))
+  along_y = geometry.mat_to_quat(geometry.axis_angle_to_mat([np.pi / 2, 0.0, 0.0]))
+  centre = base + [0.6, -0.3, radius + 0.001]   # the nearest leg: the expert's first job
+  with physics.reset_context():
+    furniture.set_part_pose(physics, moving, centre, along_x)
+    furniture.set_part_pose(physics, blocker, centre - [0.0, radius + 0.004 + half, 0.0], along_y)
+    for k, spot in zip(others, ([0.35, 0.75], [0.75, 0.4])):
+      furniture.set_part_pose(physics, k, base + [*spot, radius + 0.001], along_x)
+  point, rot = arm_controller.ArmAssemblyController._grasp_pose(expert, moving)
+  fingers = finger_room.finger_points(env.task.robot, physics, 0) @ rot.T
+  middle = targets.part_pose(physics, furniture, moving)[0]
+  middle[2] = point[2]
+  assert finger_room.lands_on_another_part(physics, furniture, moving, middle + fingers)
+  assert not finger_room.lands_on_another_part(physics, furniture, moving, point + fingers)
+  assert abs(point[0] - centre[0]) > 0.02   # moved along the leg, off the blocker
+  while expert.phase != Phase.CLOSE:
+    timestep = env.step(expert(timestep))
+  assert expert.job[1] == moving
+  lying_at = furniture.part_poses(physics)[0][moving][2]
   while expert.phase != Phase.ALIGN:
     timestep = env.step(expert(timestep))
   for _ in range(3):

@@ -15,6 +15,7 @@ from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.oracle import arm_motion
 from ikea_suite.oracle import clearance
+from ikea_suite.oracle import finger_room
 from ikea_suite.oracle import jobs
 from ikea_suite.oracle import mating
 from ikea_suite.oracle import sensing
@@ -73,6 +74,7 @@ class ArmAssemblyController:
     self._unwinder = arm_motion.Unwinder()
     self._carry_watch = arm_motion.ProgressWatch(window=80)
     self._uneven = None   # the hand closes one finger against two (_against_pair)
+    self._finger_points = None   # the open fingers in the tool frame (finger_room)
     self._hold_command = arm_motion.hold_command(robot.arms[arm].gripper, HOLD_SHORT_OF_CLOSED)
     self.reset()
 
@@ -151,7 +153,13 @@ class ArmAssemblyController:
       tip_clearance = small_parts.TIP_CLEARANCE
     point[2] = max(corners[:, 2].min(), self._surface) + route.pad_below + tip_clearance
     closing = targets.across_long_axis(part_rot, bounds) * (self._grasp_sign if sign is None else sign)
-    return point, arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
+    rot = arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
+    if not small_parts.active(self._env):   # (small parts are held near one end already)
+      if self._finger_points is None:
+        self._finger_points = finger_room.finger_points(self._robot, physics, self._arm)
+      point = point + finger_room.clear_shift(physics, furniture, part, point, rot,
+                                              self._finger_points, small_parts.PAD_ROOM)
+    return point, rot
 
   def _against_pair(self):
     """arm_motion.closes_against_pair for this hand, read once the model is compiled."""
@@ -265,7 +273,7 @@ class ArmAssemblyController:
           self._plan = self._plan[1:]
           self._root_at_plan = targets.part_pose(physics, task.furniture, task.root_part)[0]
         else:
-          self.phase, self._counter = Phase.REACH, 0
+          self._no_mate_left(moving)
           return action
       pair, twist = self._plan
       self._stalled += 1
@@ -391,6 +399,21 @@ class ArmAssemblyController:
     if self._carry_stalls[moving] == 2:
       self._stalled_grasps.add((moving, self._grasp_sign))
       self._failed_plans = set()   # those failed with the other grasp
-      tcp, _ = self._robot.tcp_pose(self._env.physics, self._arm)
-      self._put_back_height = tcp[2] - self._grasp[0][2]
-      self.phase, self._counter = Phase.PUT_BACK, 0
+      self._put_back()
+
+  def _no_mate_left(self, moving):
+    """Every mate and twist of the held part has failed with this grasp. Dropping it where
+    it hung and taking it the same way again looped until the episode ended (Sawyer,
+    kids_white tuning seed 7: 30 times). Instead it is set back down and taken with the
+    other grasp, its failed mates forgotten; with both grasps spent, the other parts go
+    first until the next connection."""
+    self._stalled_grasps.add((moving, self._grasp_sign))
+    if (moving, -self._grasp_sign) in self._stalled_grasps:
+      self._unreachable.add(moving)
+    self._failed_plans = set()
+    self._put_back()
+
+  def _put_back(self):
+    tcp, _ = self._robot.tcp_pose(self._env.physics, self._arm)
+    self._put_back_height = tcp[2] - self._grasp[0][2]
+    self.phase, self._counter = Phase.PUT_BACK, 0
