@@ -75,6 +75,7 @@ class ArmAssemblyController:
     self._carry_watch = arm_motion.ProgressWatch(window=80)
     self._uneven = None   # the hand closes one finger against two (_against_pair)
     self._finger_points = None   # the open fingers in the tool frame (finger_room)
+    self._room_shifts = {}   # (part, grasp sign): finger_room's shift, for the present reach
     self._hold_command = arm_motion.hold_command(robot.arms[arm].gripper, HOLD_SHORT_OF_CLOSED)
     self.reset()
 
@@ -152,14 +153,25 @@ class ArmAssemblyController:
         point = part_pos + part_rot @ shift
       tip_clearance = small_parts.TIP_CLEARANCE
     point[2] = max(corners[:, 2].min(), self._surface) + route.pad_below + tip_clearance
-    closing = targets.across_long_axis(part_rot, bounds) * (self._grasp_sign if sign is None else sign)
+    sign = self._grasp_sign if sign is None else sign
+    closing = targets.across_long_axis(part_rot, bounds) * sign
     rot = arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
     if not small_parts.active(self._env):   # (small parts are held near one end already)
+      point = point + part_rot @ self._room_shift(part, sign, point, rot)
+    return point, rot
+
+  def _room_shift(self, part, sign, point, rot):
+    """finger_room's shift of the grasp point (part frame), chosen once per reach for each
+    part and grasp: re-chosen every step, it jumped as the hand nudged the part beside."""
+    key = (part, sign)
+    if key not in self._room_shifts:
+      physics, furniture = self._env.physics, self._env.task.furniture
       if self._finger_points is None:
         self._finger_points = finger_room.finger_points(self._robot, physics, self._arm)
-      point = point + finger_room.clear_shift(physics, furniture, part, point, rot,
-                                              self._finger_points, small_parts.PAD_ROOM)
-    return point, rot
+      shift = finger_room.clear_shift(physics, furniture, part, point, rot,
+                                      self._finger_points, small_parts.PAD_ROOM)
+      self._room_shifts[key] = targets.part_pose(physics, furniture, part)[1].T @ shift
+    return self._room_shifts[key]
 
   def _against_pair(self):
     """arm_motion.closes_against_pair for this hand, read once the model is compiled."""
@@ -210,6 +222,7 @@ class ArmAssemblyController:
         self._unreachable = set()   # every part skipped once: try them all again
         self._job = self._choose_job()
       self._counter, self._stalled = 1, 0
+      self._room_shifts = {}
       if self._job is not None:
         self._grasp_sign = self._choose_grasp_sign(self._job[1])
     if self._job is None and self.phase not in (Phase.RELEASE, Phase.RETREAT, Phase.UNWIND):

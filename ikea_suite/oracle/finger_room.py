@@ -16,7 +16,7 @@ from ikea_suite.oracle import targets
 
 # Room (m) the fingers keep from another part's collision box.
 MARGIN = 0.003
-# Grasp points tried along the part: the middle first, then outwards.
+# Grasp points tried along the part, evenly spaced: the middle first, then outwards.
 CANDIDATES = 9
 _FILL = np.linspace(-1.0, 1.0, 4)   # points across each finger box, per axis
 
@@ -63,7 +63,14 @@ def clear_shift(physics, furniture, part, point, tool_rot, tool_points, pad_room
   at = (rot.T @ (point - pos))[axis]
   first, last = min(0.0, low[axis] + pad_room - at), max(0.0, high[axis] - pad_room - at)
   fingers = tool_points @ tool_rot.T
-  for along in sorted(np.linspace(first, last, CANDIDATES), key=abs):
+  half = CANDIDATES // 2
+  step = max(-first, last) / half
+  # The middle, then outwards alternately, the -axis side first: a fixed order, so that
+  # points equally far from the middle are not taken in turn as the part jitters.
+  for k in sorted(range(-half, half + 1), key=lambda k: (abs(k), k)):
+    along = k * step
+    if not first - 1e-9 <= along <= last + 1e-9:
+      continue
     shift = along * rot[:, axis]
     shift[2] = 0.0   # the grasp height stays the controller's
     if not lands_on_another_part(physics, furniture, part, point + shift + fingers):
