@@ -9,6 +9,7 @@ from ikea_suite import geometry
 from ikea_suite.oracle import arm_controller
 from ikea_suite.oracle import arm_motion
 from ikea_suite.oracle import finger_room
+from ikea_suite.oracle import mating
 from ikea_suite.oracle import targets
 
 Phase = arm_controller.Phase
@@ -187,3 +188,21 @@ def test_a_leg_with_another_part_beside_its_middle_is_taken_where_the_fingers_la
   taken, grasp = _closes_and_lifts(env, expert, timestep)
   assert taken == moving
   assert abs(grasp[0] - centre[0]) > 0.02   # moved along the leg, off the blocker
+
+
+def test_a_held_part_with_no_mate_left_is_set_down_and_taken_the_other_way():
+  # Every mate and twist failed: the expert used to let go where the part hung and take
+  # it the same way again, 30 times to the end of the episode (kids_white, tuning seed 7).
+  env, expert, timestep = _sawyer_expert("table_four_leg_lack")
+  moving, _ = _closes_and_lifts(env, expert, timestep)
+  sign = expert._grasp_sign
+  failed = set()
+  while (plan := mating.plan_mating(env, 0, moving, expert._approach, failed)) is not None:
+    failed.add(plan[1:])
+  expert._plan, expert._failed_plans = None, failed
+  timestep = env.step(expert(timestep))
+  assert expert.phase == Phase.PUT_BACK and not expert._failed_plans
+  assert (moving, sign) in expert._stalled_grasps and moving not in expert._unreachable
+  while expert.phase != Phase.CLOSE:   # set down, let go, and taken again
+    timestep = env.step(expert(timestep))
+  assert expert.job[1] == moving and expert._grasp_sign == -sign
