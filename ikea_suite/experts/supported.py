@@ -2,11 +2,12 @@
 
 Filled from benchmarks/expert_sweep.py on seeds the experts were never tuned
 on: a pair is listed when at least 80% of its episodes completed the
-furniture. The Sawyer and Panda: 20 seeds (7000-7019: --seed-start 7000 and
-7010, --seeds 10) with the code of 2026-11-25, sixth session (fingers that
-land clear, a held part with no mate left set back down). The Baxter and
-Jaco: no model reaches 80%; see the README ("Expert sweep") for their
-tables. The scale is the one the robot assembles that furniture at (its
+furniture over 20 seeds (7000-7019: --seed-start 7000 and 7010, --seeds 10)
+with the code of 2026-11-25, sixth session (fingers that land clear, a held
+part with no mate left set back down): the Sawyer, Panda and Baxter (whose
+expert used both arms in 294 of its 300 episodes). The Jaco, 10 seeds
+(7000-7009): no model reaches 80%. The tables are in the README ("Expert
+sweep"). The scale is the one the robot assembles that furniture at (its
 WORK_SCALE; per-model work scales below it, none of which is listed).
 """
 
@@ -30,6 +31,7 @@ SUPPORTED = {
               "table_four_leg_lack": 0.5,         # 16/20
               "table_four_leg_side_oak": 0.5,     # 17/20
               "table_four_leg_w75_black": 0.5},   # 17/20 (stool_square_dark_low: 14/20)
-    "baxter": {},   # best on 6000-6009: stool_round_low_white 6/10
-    "jaco": {},     # best on 6000-6009: stool_round_bar_birch 3/10
+    "baxter": {"stool_round_bar_birch": 0.5,      # 16/20, both arms in 15 of them
+               "stool_round_low_white": 0.5},     # 16/20, both arms in 14 (frosta 15/20)
+    "jaco": {},     # best on 7000-7009: stool_round_frosta and low_white 4/10
 }
