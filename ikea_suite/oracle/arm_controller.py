@@ -15,11 +15,10 @@ from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.oracle import arm_motion
 from ikea_suite.oracle import clearance
-from ikea_suite.oracle import finger_room
+from ikea_suite.oracle import grasp_pose
 from ikea_suite.oracle import jobs
 from ikea_suite.oracle import mating
 from ikea_suite.oracle import sensing
-from ikea_suite.oracle import small_parts
 from ikea_suite.oracle import targets
 from ikea_suite.robots import control_modes
 
@@ -70,12 +69,11 @@ class ArmAssemblyController:
     # Carry and clearance heights count from the surface the parts lie on (floor or table top).
     self._surface = env.task.arena.support.height
     self._clearance = clearance.AssemblyClearance(env, arm, self._surface)
+    self._grasps = grasp_pose.TopDownGrasp(env, arm, self._surface, self._clearance)
     self._servo = arm_motion.PoseServo()
     self._unwinder = arm_motion.Unwinder()
     self._carry_watch = arm_motion.ProgressWatch(window=80)
     self._uneven = None   # the hand closes one finger against two (_against_pair)
-    self._finger_points = None   # the open fingers in the tool frame (finger_room)
-    self._room_shifts = {}   # (part, grasp sign): finger_room's shift, for the present reach
     self._hold_command = arm_motion.hold_command(robot.arms[arm].gripper, HOLD_SHORT_OF_CLOSED)
     self.reset()
 
@@ -126,52 +124,12 @@ class ArmAssemblyController:
 
   def closing_local(self):
     """The fingers' closing direction in the tool frame (unit, horizontal when pointing down)."""
-    return arm_motion.closing_axis(self._robot, self._env.physics, self._arm)
+    return self._grasps.closing_local()
 
   def _grasp_pose(self, part, sign=None):
-    """Tool pose at the part's grasp point: pointing down, fingers across its long axis."""
-    physics, furniture = self._env.physics, self._env.task.furniture
-    point = targets.grasp_point(physics, furniture, part)
-    part_pos, part_rot = targets.part_pose(physics, furniture, part)
-    bounds = furniture.spec.parts[part].bounds
-    corners = geometry.box_corners(*bounds) @ part_rot.T + part_pos
-    # As low as the fingertips allow (3 mm above the part's underside), so the pads
-    # cover as much of a thin part's height as they can. A part thinner than that
-    # clearance is still gripped at its widest (the pads reach down past the tool
-    # centre); aiming lower pressed the fingertips into the floor, and a 13 mm leg's
-    # 6.5 mm centre stayed 7.5 mm short of the descent's 6 mm gate.
-    # The box's lowest corner, not below the surface it lies on: a part lying rolled about
-    # its long axis has box corners below the floor, and fingertips aimed 3 mm above such a
-    # corner pressed on the floor and could not close (Baxter, tuning seed 1, side_oak).
-    route = self._clearance
-    if route.pad_below is None:   # measured at the first grasp, with the arm at home
-      route.pad_below = arm_motion.fingertip_reach(self._robot, self._env.physics, self._arm)
-    point, tip_clearance = point.copy(), 0.003
-    if small_parts.active(self._env):   # held away from its connectors: the hand stays high
-      shift = small_parts.grip_shift(furniture, part)
-      if shift.any():
-        point = part_pos + part_rot @ shift
-      tip_clearance = small_parts.TIP_CLEARANCE
-    point[2] = max(corners[:, 2].min(), self._surface) + route.pad_below + tip_clearance
-    sign = self._grasp_sign if sign is None else sign
-    closing = targets.across_long_axis(part_rot, bounds) * sign
-    rot = arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
-    if not small_parts.active(self._env):   # (small parts are held near one end already)
-      point = point + part_rot @ self._room_shift(part, sign, point, rot)
-    return point, rot
-
-  def _room_shift(self, part, sign, point, rot):
-    """finger_room's shift of the grasp point (part frame), chosen once per reach for each
-    part and grasp: re-chosen every step, it jumped as the hand nudged the part beside."""
-    key = (part, sign)
-    if key not in self._room_shifts:
-      physics, furniture = self._env.physics, self._env.task.furniture
-      if self._finger_points is None:
-        self._finger_points = finger_room.finger_points(self._robot, physics, self._arm)
-      shift = finger_room.clear_shift(physics, furniture, part, point, rot,
-                                      self._finger_points, small_parts.PAD_ROOM)
-      self._room_shifts[key] = targets.part_pose(physics, furniture, part)[1].T @ shift
-    return self._room_shifts[key]
+    """Tool pose at the part's grasp point (grasp_pose.TopDownGrasp), with the present grasp
+    or the one of `sign`."""
+    return self._grasps.pose(part, self._grasp_sign if sign is None else sign)
 
   def _against_pair(self):
     """arm_motion.closes_against_pair for this hand, read once the model is compiled."""
@@ -222,7 +180,7 @@ class ArmAssemblyController:
         self._unreachable = set()   # every part skipped once: try them all again
         self._job = self._choose_job()
       self._counter, self._stalled = 1, 0
-      self._room_shifts = {}
+      self._grasps.new_reach()
       if self._job is not None:
         self._grasp_sign = self._choose_grasp_sign(self._job[1])
     if self._job is None and self.phase not in (Phase.RELEASE, Phase.RETREAT, Phase.UNWIND):

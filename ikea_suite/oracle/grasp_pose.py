@@ -1,0 +1,82 @@
+"""Where a scripted arm's tool goes to take a part lying on the floor or a table: from
+above, fingers across the part's long axis, as low as the fingertips allow, at a point
+where both open fingers land clear of other parts (privileged state; nothing moves)."""
+
+import numpy as np
+
+from ikea_suite import geometry
+from ikea_suite.oracle import arm_motion
+from ikea_suite.oracle import finger_room
+from ikea_suite.oracle import small_parts
+from ikea_suite.oracle import targets
+
+
+class TopDownGrasp:
+  """Tool poses for one arm's top-down grasps.
+
+  Args:
+    env: the environment.
+    arm: the arm's index.
+    surface: height (m) of the surface the parts lie on.
+    route: the arm's clearance.AssemblyClearance, which keeps the fingertips' reach
+      below the tool centre (`pad_below`, measured here at the first grasp).
+  """
+
+  def __init__(self, env, arm, surface, route):
+    self._env, self._robot, self._arm = env, env.task.robot, arm
+    self._surface, self._route = surface, route
+    self._finger_points = None   # the open fingers in the tool frame (finger_room)
+    self._room_shifts = {}   # (part, grasp sign): finger_room's shift, for the present reach
+
+  def new_reach(self):
+    """Forgets the grasp points chosen for the last reach."""
+    self._room_shifts = {}
+
+  def closing_local(self):
+    """The fingers' closing direction in the tool frame (unit, horizontal when pointing down)."""
+    return arm_motion.closing_axis(self._robot, self._env.physics, self._arm)
+
+  def pose(self, part, sign):
+    """Tool pose at the part's grasp point: pointing down, fingers across its long axis,
+    closing along +-1 (`sign`: which of the two symmetric grasps)."""
+    physics, furniture = self._env.physics, self._env.task.furniture
+    point = targets.grasp_point(physics, furniture, part)
+    part_pos, part_rot = targets.part_pose(physics, furniture, part)
+    bounds = furniture.spec.parts[part].bounds
+    corners = geometry.box_corners(*bounds) @ part_rot.T + part_pos
+    # As low as the fingertips allow (3 mm above the part's underside), so the pads
+    # cover as much of a thin part's height as they can. A part thinner than that
+    # clearance is still gripped at its widest (the pads reach down past the tool
+    # centre); aiming lower pressed the fingertips into the floor, and a 13 mm leg's
+    # 6.5 mm centre stayed 7.5 mm short of the descent's 6 mm gate.
+    # The box's lowest corner, not below the surface it lies on: a part lying rolled about
+    # its long axis has box corners below the floor, and fingertips aimed 3 mm above such a
+    # corner pressed on the floor and could not close (Baxter, tuning seed 1, side_oak).
+    route = self._route
+    if route.pad_below is None:   # measured at the first grasp, with the arm at home
+      route.pad_below = arm_motion.fingertip_reach(self._robot, physics, self._arm)
+    point, tip_clearance = point.copy(), 0.003
+    if small_parts.active(self._env):   # held away from its connectors: the hand stays high
+      shift = small_parts.grip_shift(furniture, part)
+      if shift.any():
+        point = part_pos + part_rot @ shift
+      tip_clearance = small_parts.TIP_CLEARANCE
+    point[2] = max(corners[:, 2].min(), self._surface) + route.pad_below + tip_clearance
+    closing = targets.across_long_axis(part_rot, bounds) * sign
+    rot = arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
+    if not small_parts.active(self._env):   # (small parts are held near one end already)
+      point = point + part_rot @ self._room_shift(part, sign, point, rot)
+    return point, rot
+
+  def _room_shift(self, part, sign, point, rot):
+    """finger_room's shift of the grasp point (part frame), chosen once per reach for each
+    part and grasp: re-chosen every step, it jumped as the hand nudged the part beside."""
+    key = (part, sign)
+    if key not in self._room_shifts:
+      physics, furniture = self._env.physics, self._env.task.furniture
+      if self._finger_points is None:
+        self._finger_points = finger_room.finger_points(self._robot, physics, self._arm)
+      shift = finger_room.clear_shift(physics, furniture, part, point, rot,
+                                      self._finger_points, small_parts.PAD_ROOM)
+      self._room_shifts[key] = targets.part_pose(physics, furniture, part)[1].T @ shift
+    return self._room_shifts[key]
