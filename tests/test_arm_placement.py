@@ -51,10 +51,23 @@ def test_preassembled_parts_start_joined_for_an_arm():
 
 
 @pytest.mark.parametrize("robot", ("sawyer", "panda", "baxter", "jaco"))
+def test_parts_lie_within_the_band_the_arm_declares(robot):
+  # The Baxter's band (0.62-0.82 m) is narrower than the Sawyer's (0.55-0.85 m): its hands
+  # do not reach the floor beside its torso nor far straight ahead.
+  env = ikea_suite.load("table_four_leg_lack", robot, seed=5, scale=0.5)
+  _, _, reach, _, inner = env.task.robot.reach_zone
+  for _ in range(5):
+    env.reset()
+    _, _, distances = _part_yaws_and_distances(env)
+    others = np.delete(distances, env.task.root_part)
+    assert inner - 1e-6 <= others.min() and others.max() <= reach + 1e-6
+
+
+@pytest.mark.parametrize("robot", ("sawyer", "panda", "baxter", "jaco"))
 def test_parts_lie_within_the_sector_the_arm_declares(robot):
   env = ikea_suite.load("table_four_leg_lack", robot, seed=5, scale=0.5)
   arm = env.task.robot
-  base_xy, base_rot, _, sector = arm.reach_zone
+  base_xy, base_rot, _, sector, _ = arm.reach_zone
   heading = np.arctan2(base_rot[1, 0], base_rot[0, 0])
   bearings = []
   for _ in range(5):

@@ -49,9 +49,9 @@ class Robot(composer.Entity, abc.ABC):
 
   @property
   def reach_zone(self):
-    """(base xy, base rotation, reach in m, sector half-angle in rad) within which a
-    fixed-base robot needs its parts, or None for a robot that reaches everywhere (the
-    Cursor); the task places parts by it."""
+    """(base xy, base rotation, reach in m, sector half-angle in rad, inner distance in m)
+    within which a fixed-base robot needs its parts, or None for a robot that reaches
+    everywhere (the Cursor); the task places parts by it."""
     return None
 
   @property

@@ -54,6 +54,9 @@ class Manipulator(base.Robot):
   DEFAULT_NAME = "manipulator"
   BASE_POS = (-0.55, 0.0, 0.0)   # world position of the base, facing +x
   REACH = 0.85                   # metres from the base where parts are placed
+  # Metres from the base inside which no part is placed: an arm pointing down cannot
+  # reach right beside itself.
+  PLACEMENT_INNER = 0.55
   # Parts lie within this angle either side of the base's heading (rad).
   PLACEMENT_SECTOR = np.radians(110)
   # Furniture scale that fits this arm's reach (load(scale=...)): at 0.5 a 55 cm table
@@ -201,10 +204,10 @@ class Manipulator(base.Robot):
 
   @property
   def reach_zone(self):
-    """(base xy (2,), base rotation (3, 3), reach in m, sector half-angle in rad): where the
-    task may put parts for this arm (tasks/arm_placement.py)."""
+    """(base xy (2,), base rotation (3, 3), reach in m, sector half-angle in rad, inner
+    distance in m): where the task may put parts for this arm (tasks/arm_placement.py)."""
     return (self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH),
-            float(self.PLACEMENT_SECTOR))
+            float(self.PLACEMENT_SECTOR), float(self.PLACEMENT_INNER))
 
   def bind_scene(self, arena, furniture, assembly, control_timestep):
     self._dt = control_timestep

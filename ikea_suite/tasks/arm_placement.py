@@ -50,6 +50,7 @@ class ReachableParts(placement.PartInitializer):
     furniture: the Furniture prop.
     base_xy, base_rot: the arm base's world position (2,) and rotation (3, 3).
     reach: metres from the base that parts may lie at.
+    min_distance: nearest (m) to the base a part's centre may lie (the arm's inner distance).
     spread: width of the band (m) parts are drawn from; None: from min_distance to reach.
     yaw_range: largest |yaw| (rad) of a part about its resting pose.
     preassembled: connections made before the episode (int or (low, high)).
@@ -58,7 +59,7 @@ class ReachableParts(placement.PartInitializer):
     OptionValueError: spread wider than the reach allows, or a root part wider than the support.
   """
 
-  def __init__(self, furniture, base_xy, base_rot, reach, inner=0.2, min_distance=0.55,
+  def __init__(self, furniture, base_xy, base_rot, reach, min_distance, inner=0.2,
                root_distance=0.45, gap=0.03,
                root_jitter=(0.03, np.radians(15)), sector=np.radians(110), max_attempts=200,
                spread=None, yaw_range=np.pi, preassembled=0, support=support_lib.FLOOR):
@@ -175,7 +176,8 @@ def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preasse
 
   Args:
     furniture: the Furniture prop.
-    reach_zone: (base xy, base rotation, reach m, sector half-angle rad) as the arm states it.
+    reach_zone: (base xy, base rotation, reach m, sector half-angle rad, inner distance m) as
+      the arm states it.
     spread: width (m) of the band parts lie in; None: all the reach allows.
     yaw_range: largest |yaw| (rad) of a part.
     preassembled: connections made before the episode (int or (low, high)).
@@ -190,6 +192,6 @@ def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preasse
       continue
     if not placement.is_number(value) or not 0 <= value < np.inf:
       raise errors.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
-  base_xy, base_rot, reach, sector = reach_zone
-  return ReachableParts(furniture, base_xy, base_rot, reach, sector=sector, spread=spread,
+  base_xy, base_rot, reach, sector, inner = reach_zone
+  return ReachableParts(furniture, base_xy, base_rot, reach, inner, sector=sector, spread=spread,
                         yaw_range=float(yaw_range), preassembled=preassembled, support=support)
