@@ -50,12 +50,24 @@ def test_preassembled_parts_start_joined_for_an_arm():
   assert len(env.task.state.connections) == 2
 
 
+@pytest.mark.parametrize("robot", ("sawyer", "baxter"))
+def test_the_root_lies_as_far_out_as_the_arm_declares(robot):
+  # The Baxter's 0.55 m: its mates 0.3 m from the torso cramped both hands.
+  env = ikea_suite.load("stool_round_frosta", robot, seed=2, scale=0.5)
+  zone = env.task.robot.reach_zone
+  for _ in range(3):
+    env.reset()
+    _, _, distances = _part_yaws_and_distances(env)
+    assert abs(distances[env.task.root_part] - zone.root_distance) < 0.05   # 3 cm jitter
+
+
 @pytest.mark.parametrize("robot", ("sawyer", "panda", "baxter", "jaco"))
 def test_parts_lie_within_the_band_the_arm_declares(robot):
   # The Baxter's band (0.62-0.82 m) is narrower than the Sawyer's (0.55-0.85 m): its hands
   # do not reach the floor beside its torso nor far straight ahead.
   env = ikea_suite.load("table_four_leg_lack", robot, seed=5, scale=0.5)
-  _, _, reach, _, inner = env.task.robot.reach_zone
+  zone = env.task.robot.reach_zone
+  reach, inner = zone.reach, zone.inner
   for _ in range(5):
     env.reset()
     _, _, distances = _part_yaws_and_distances(env)
@@ -67,7 +79,8 @@ def test_parts_lie_within_the_band_the_arm_declares(robot):
 def test_parts_lie_within_the_sector_the_arm_declares(robot):
   env = ikea_suite.load("table_four_leg_lack", robot, seed=5, scale=0.5)
   arm = env.task.robot
-  base_xy, base_rot, _, sector, _ = arm.reach_zone
+  zone = arm.reach_zone
+  base_xy, base_rot, sector = zone.base_xy, zone.base_rot, zone.sector
   heading = np.arctan2(base_rot[1, 0], base_rot[0, 0])
   bearings = []
   for _ in range(5):

@@ -48,7 +48,7 @@ def test_parts_start_still_on_the_table_top_within_reach(robot):
   env = _load(robot)
   support = env.task.arena.support
   base, _ = env.task.robot.base_pose
-  reach = env.task.robot.reach_zone[2]
+  reach = env.task.robot.reach_zone.reach
   assert base[2] >= H   # the arm stands on its pedestal, as high as the top
   for _ in range(2):
     env.reset()

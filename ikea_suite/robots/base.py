@@ -2,8 +2,20 @@
 
 import abc
 import inspect
+from typing import NamedTuple
 
+import numpy as np
 from dm_control import composer
+
+
+class ReachZone(NamedTuple):
+  """Where a fixed-base robot needs its parts (tasks/arm_placement.py places them)."""
+  base_xy: np.ndarray     # (2,) world position of the base
+  base_rot: np.ndarray    # (3, 3) world rotation of the base
+  reach: float            # metres from the base that parts may lie at
+  sector: float           # half-angle (rad) either side of the base's heading
+  inner: float            # metres from the base inside which no part lies
+  root_distance: float    # metres from the base to the centre of the part built onto
 
 
 class Robot(composer.Entity, abc.ABC):
@@ -49,9 +61,8 @@ class Robot(composer.Entity, abc.ABC):
 
   @property
   def reach_zone(self):
-    """(base xy, base rotation, reach in m, sector half-angle in rad, inner distance in m)
-    within which a fixed-base robot needs its parts, or None for a robot that reaches
-    everywhere (the Cursor); the task places parts by it."""
+    """The ReachZone within which a fixed-base robot needs its parts, or None for a robot
+    that reaches everywhere (the Cursor); the task places parts by it."""
     return None
 
   @property

@@ -57,6 +57,10 @@ class Manipulator(base.Robot):
   # Metres from the base inside which no part is placed: an arm pointing down cannot
   # reach right beside itself.
   PLACEMENT_INNER = 0.55
+  # Metres out from the base to the centre of the part everything is built onto (more for
+  # a wide one): mating a held part onto a connector close to the base folds the elbow
+  # into the part (measured with the Sawyer at 0.4 m).
+  ROOT_DISTANCE = 0.45
   # Parts lie within this angle either side of the base's heading (rad).
   PLACEMENT_SECTOR = np.radians(110)
   # Furniture scale that fits this arm's reach (load(scale=...)): at 0.5 a 55 cm table
@@ -204,10 +208,10 @@ class Manipulator(base.Robot):
 
   @property
   def reach_zone(self):
-    """(base xy (2,), base rotation (3, 3), reach in m, sector half-angle in rad, inner
-    distance in m): where the task may put parts for this arm (tasks/arm_placement.py)."""
-    return (self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH),
-            float(self.PLACEMENT_SECTOR), float(self.PLACEMENT_INNER))
+    """base.ReachZone: where the task may put parts for this arm (tasks/arm_placement.py)."""
+    return base.ReachZone(self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH),
+                          float(self.PLACEMENT_SECTOR), float(self.PLACEMENT_INNER),
+                          float(self.ROOT_DISTANCE))
 
   def bind_scene(self, arena, furniture, assembly, control_timestep):
     self._dt = control_timestep

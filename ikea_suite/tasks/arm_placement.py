@@ -51,6 +51,7 @@ class ReachableParts(placement.PartInitializer):
     base_xy, base_rot: the arm base's world position (2,) and rotation (3, 3).
     reach: metres from the base that parts may lie at.
     min_distance: nearest (m) to the base a part's centre may lie (the arm's inner distance).
+    root_distance: nearest (m) to the base the root part's centre lies.
     spread: width of the band (m) parts are drawn from; None: from min_distance to reach.
     yaw_range: largest |yaw| (rad) of a part about its resting pose.
     preassembled: connections made before the episode (int or (low, high)).
@@ -59,8 +60,8 @@ class ReachableParts(placement.PartInitializer):
     OptionValueError: spread wider than the reach allows, or a root part wider than the support.
   """
 
-  def __init__(self, furniture, base_xy, base_rot, reach, min_distance, inner=0.2,
-               root_distance=0.45, gap=0.03,
+  def __init__(self, furniture, base_xy, base_rot, reach, min_distance, root_distance,
+               inner=0.2, gap=0.03,
                root_jitter=(0.03, np.radians(15)), sector=np.radians(110), max_attempts=200,
                spread=None, yaw_range=np.pi, preassembled=0, support=support_lib.FLOOR):
     self._furniture = furniture
@@ -71,8 +72,6 @@ class ReachableParts(placement.PartInitializer):
     # to the base (an arm pointing down cannot reach right beside itself).
     self._reach, self._inner, self._gap = reach, inner, gap
     self._min_distance = min_distance
-    # The root's centre lies at least this far out: mating a held part onto a connector
-    # close to the base folds the elbow into the part (measured with the Sawyer at 0.4 m).
     self._root_distance = root_distance
     self._root_jitter, self._sector, self._max_attempts = root_jitter, sector, max_attempts
     if spread is not None:
@@ -176,8 +175,7 @@ def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preasse
 
   Args:
     furniture: the Furniture prop.
-    reach_zone: (base xy, base rotation, reach m, sector half-angle rad, inner distance m) as
-      the arm states it.
+    reach_zone: the robots.base.ReachZone the arm states.
     spread: width (m) of the band parts lie in; None: all the reach allows.
     yaw_range: largest |yaw| (rad) of a part.
     preassembled: connections made before the episode (int or (low, high)).
@@ -192,6 +190,7 @@ def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preasse
       continue
     if not placement.is_number(value) or not 0 <= value < np.inf:
       raise errors.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
-  base_xy, base_rot, reach, sector, inner = reach_zone
-  return ReachableParts(furniture, base_xy, base_rot, reach, inner, sector=sector, spread=spread,
+  zone = reach_zone
+  return ReachableParts(furniture, zone.base_xy, zone.base_rot, zone.reach, zone.inner,
+                        zone.root_distance, sector=zone.sector, spread=spread,
                         yaw_range=float(yaw_range), preassembled=preassembled, support=support)
