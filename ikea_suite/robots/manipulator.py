@@ -57,9 +57,8 @@ class Manipulator(base.Robot):
   # Metres from the base inside which no part is placed: an arm pointing down cannot
   # reach right beside itself.
   PLACEMENT_INNER = 0.55
-  # Metres out from the base to the centre of the part everything is built onto (more for
-  # a wide one): mating a held part onto a connector close to the base folds the elbow
-  # into the part (measured with the Sawyer at 0.4 m).
+  # Metres out to the centre of the part built onto (more for a wide one): a held part mated
+  # nearer the base folds the elbow into it (measured with the Sawyer at 0.4 m).
   ROOT_DISTANCE = 0.45
   # Parts lie within this angle either side of the base's heading (rad).
   PLACEMENT_SECTOR = np.radians(110)
