@@ -7,11 +7,10 @@ furniture over 20 seeds. The Sawyer and Panda: seeds 7000-7019 (--seed-start
 that land clear, a held part with no mate left set back down). The Baxter:
 seeds 10000-10019 with its parts placed 0.62-0.82 m from the torso and its
 root 0.55 m out (2026-11-26, seventh session), its expert using both arms in
-294 of the 300 episodes. The
-Jaco, 10 seeds (7000-7009): no model reaches 80%. The tables are in the
-README ("Expert sweep"). The scale is the one the robot assembles that
-furniture at (its WORK_SCALE; per-model work scales below it, none of which
-is listed).
+294 of the 300 episodes. The Jaco, 10 seeds (7000-7009): no model reaches
+80%. The tables are in the README ("Expert sweep"). The scale is the one the
+robot assembles that furniture at (its WORK_SCALE; per-model work scales
+below it, none of which is listed).
 """
 
 # robot -> {furniture: scale}

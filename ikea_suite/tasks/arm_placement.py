@@ -52,6 +52,7 @@ class ReachableParts(placement.PartInitializer):
     reach: metres from the base that parts may lie at.
     min_distance: nearest (m) to the base a part's centre may lie (the arm's inner distance).
     root_distance: nearest (m) to the base the root part's centre lies.
+    sector: half-angle (rad) either side of the base's heading that parts lie within.
     spread: width of the band (m) parts are drawn from; None: from min_distance to reach.
     yaw_range: largest |yaw| (rad) of a part about its resting pose.
     preassembled: connections made before the episode (int or (low, high)).
@@ -60,9 +61,8 @@ class ReachableParts(placement.PartInitializer):
     OptionValueError: spread wider than the reach allows, or a root part wider than the support.
   """
 
-  def __init__(self, furniture, base_xy, base_rot, reach, min_distance, root_distance,
-               inner=0.2, gap=0.03,
-               root_jitter=(0.03, np.radians(15)), sector=np.radians(110), max_attempts=200,
+  def __init__(self, furniture, base_xy, base_rot, reach, min_distance, root_distance, sector,
+               inner=0.2, gap=0.03, root_jitter=(0.03, np.radians(15)), max_attempts=200,
                spread=None, yaw_range=np.pi, preassembled=0, support=support_lib.FLOOR):
     self._furniture = furniture
     self._support = support
@@ -190,7 +190,7 @@ def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preasse
       continue
     if not placement.is_number(value) or not 0 <= value < np.inf:
       raise errors.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
-  zone = reach_zone
-  return ReachableParts(furniture, zone.base_xy, zone.base_rot, zone.reach, zone.inner,
-                        zone.root_distance, sector=zone.sector, spread=spread,
-                        yaw_range=float(yaw_range), preassembled=preassembled, support=support)
+  return ReachableParts(furniture, reach_zone.base_xy, reach_zone.base_rot, reach_zone.reach,
+                        reach_zone.inner, reach_zone.root_distance, reach_zone.sector,
+                        spread=spread, yaw_range=float(yaw_range), preassembled=preassembled,
+                        support=support)
