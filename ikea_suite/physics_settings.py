@@ -37,8 +37,8 @@ ARENA_MEMORY = "32M"
 # hard (impedance 0.999 -> 0.9999 over 1 mm). The rotational residual is
 # weighted 10 m per rad, so 1 mrad of bending costs as much as 1 cm of offset:
 # a table hung from one leg otherwise swings 22 mm about that leg's weld.
-# Measured (test_physics_settings, shaken 3 s by one part): table 0.19 mm,
-# chair 0.17 mm, bookcase 0.08 mm of deformation; limit 1 mm.
+# Measured (test_physics_settings, shaken 3 s in the air by one part): table 0.26 mm,
+# chair 0.10 mm, bookcase 0.06 mm of deformation; limit 1 mm.
 WELD_SOLREF = (2 * TIMESTEP, 1.0)
 WELD_SOLIMP = (0.999, 0.9999, 0.001, 0.5, 2.0)
 WELD_TORQUESCALE = 10.0
@@ -50,8 +50,8 @@ WELD_TORQUESCALE = 10.0
 # that way; at 5 ms all of them assemble.
 CURSOR_GRIP_SOLREF = (0.005, 1.0)
 
-# Contacts between parts, floor and robot: MuJoCo's default time constant
-# (20 ms) and impedance (0.9-0.95), stated here so every tool uses them.
+# Contacts between parts and robot: MuJoCo's default time constant (20 ms) and
+# impedance (0.9-0.95), stated here so every tool uses them (the floor: below).
 # Stiffer contacts (5 ms, 0.95-0.99) sank a 52 kg dresser 0.11 mm into the
 # floor instead of 0.44 mm, but overpowered the Cursor's soft grip weld: a
 # 0.14 kg plastic box wall jammed 21 degrees off against the box bottom during
@@ -78,6 +78,19 @@ HARD_SOLREF = (2 * TIMESTEP, 1.0)
 HARD_SOLIMP = (0.95, 0.99, 0.001, 0.5, 2.0)
 PAD_SOLIMP = HARD_SOLIMP
 PAD_SOLMIX = 1000.0
+
+# Surfaces parts stand on (the floor, a work table's top) are hard too: MuJoCo's contact
+# softness scales with the touching body's inverse mass, so at the default impedance a
+# light board carrying a heavy carcass through welds sinks in. The original IKEA
+# env's cabinet_akurum_0014 stands on three 1-1.6 g plinths under a 100 g carcass: they
+# sank 0.8-3.2 mm and the 0.72 m cabinet leaned 1 degree (12.7 mm drift in 5 s); on a
+# hard floor 1.7 mm (README, issue 11). The catalog's heaviest dresser (45 kg) sinks
+# 0.21 mm instead of 0.38. The time constant stays 20 ms: a 4 ms floor turned
+# chair_balser_0115 past the 0.2 degree stand limit. The large solmix makes the
+# surface's impedance win over a part's; pads (same solmix, same impedance) mix evenly.
+SUPPORT_SOLIMP = HARD_SOLIMP
+SUPPORT_SOLMIX = PAD_SOLMIX
+_PLANE = 0   # mjGEOM_PLANE: the floor of a model file
 _ROUND_TYPES = (2, 3, 4, 5)   # mjGEOM_SPHERE, CAPSULE, ELLIPSOID, CYLINDER
 
 
@@ -98,6 +111,14 @@ def configure_contacts(model, geom_ids=None):
   model.geom_condim[round_ids] = ROUND_GEOM_CONDIM
 
 
+def configure_supports(model, geom_ids):
+  """Sets the hard impedance of the surfaces parts stand on (SUPPORT_SOLIMP) on compiled
+  geoms; call after configure_contacts, which resets every geom to the default."""
+  ids = np.asarray(geom_ids, dtype=int)
+  model.geom_solimp[ids] = SUPPORT_SOLIMP
+  model.geom_solmix[ids] = SUPPORT_SOLMIX
+
+
 def configure_pads(model, geom_ids, solref=CONTACT_SOLREF):
   """Sets the finger-pad contact impedance (PAD_SOLIMP) and `solref` on compiled pad geoms;
   call after configure_contacts, which resets every geom to the default."""
@@ -115,6 +136,7 @@ def configure_model(model):
   model.opt.impratio = OPTION["impratio"]
   model.opt.noslip_iterations = OPTION["noslip_iterations"]
   configure_contacts(model)
+  configure_supports(model, np.flatnonzero(model.geom_type == _PLANE))
   welds = np.flatnonzero(model.eq_type == 1)   # mjEQ_WELD
   model.eq_solref[welds] = WELD_SOLREF
   model.eq_solimp[welds] = WELD_SOLIMP

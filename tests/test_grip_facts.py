@@ -163,14 +163,14 @@ def test_arm_holds_a_real_mass_part_while_carrying_and_turning_it(robot, part):
   assert mass > 0.15 and slip < 0.005
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "measured 5.1 mm: the two fingers (1 N m each) back-drive the single thumb (1 N m) "
-    "and push the leg 5 mm towards it over the first 1.5 s of the carry, until the fingers "
-    "reach their closed limit; the leg is held (never dropped) but the 5 mm bound is missed"))
 def test_jaco_holds_a_work_scale_leg_between_thumb_and_fingers():
   # The Lack leg at the Jaco's work scale (0.5: 25 mm square, 24 g, its scaled catalog
   # mass), the part the expert carries: before the pinch-depth TCP and the stiff finger
   # contacts, the fingertips struck the floor or sank into the light leg and lost it.
+  # Measured 4.9 mm, close to the bound: the two fingers (1 N m each) back-drive the single
+  # thumb (1 N m) and push the leg towards it over the first 1.5 s of the carry, until they
+  # reach their closed limit. It was 5.3 mm, an expected failure, on the seventh session's
+  # softer floor (physics_settings.SUPPORT_SOLIMP).
   assert jaco.Jaco.WORK_SCALE == 0.5
   mass, slip = _hold_test("jaco", *_LEG, scale=0.5)
   assert mass == pytest.approx(0.19 / 8, rel=0.05) and slip < 0.005

@@ -113,6 +113,8 @@ class Assembly(composer.Task):
     # composer calls the task's hook before the entities'; the task needs part ids now.
     self._furniture.after_compile(physics, random_state)
     physics_settings.configure_contacts(physics.model)
+    physics_settings.configure_supports(
+        physics.model, physics.bind(self._arena.support_geoms).element_id)
     self._welds.after_compile(physics)
     self._collisions.after_compile(self._furniture)
     model = physics.model
