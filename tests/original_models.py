@@ -416,3 +416,39 @@ def wall_shelf(directory, name="wall_shelf"):
     </body>""")
   return _write(directory, name, bodies)
 
+
+
+def _quat_mul(a, b):
+  w1, x1, y1, z1 = a
+  w2, x2, y2, z2 = b
+  return (w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+          w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2)
+
+
+def misnamed_chair(directory, name="chair_misnamed", short_back=0.0):
+  """A chair laid out assembled whose names contradict the layout, as in one of the
+  original's chairs: each side rail names 'side-back' the site at its front end, where it
+  meets the front, and 'side-front' the one at its back end; and the back meets the rails
+  turned 180 degrees about the up axis where its names allow only 0. Each rail has a stub
+  leg under its front end, so a reversed rail is told apart. `short_back` (m) lifts the
+  back panel's lower edge off the floor."""
+  s = np.sqrt(0.5)
+  up_back = (s, -s, 0.0, 0.0)                                # up +y
+  up_front = (s, s, 0.0, 0.0)                                # up -y
+  turned = _quat_mul(up_front, (0.0, 0.0, 0.0, 1.0))         # the same up, forward turned 180
+  q = lambda quat: " ".join(f"{v:.7f}" for v in quat)
+  bodies = [_box_body("front", "0 0 0.2", "0.2 0.01 0.2", [
+      (f"front-side,0,conn_site{k}", f"{x} 0.01 0.1", q(up_back)) for k, x in enumerate((-0.19, 0.19))])]
+  half = 0.3 - short_back / 2
+  bodies.append(_box_body("back", "0 0.4 0.3", "0.2 0.01 0.3", [
+      (f"back-side,0,conn_site{k}", f"{x} -0.01 0", q(up_front)) for k, x in enumerate((-0.19, 0.19))]).replace(
+          'size="0.2 0.01 0.3"', f'pos="0 0 {0.3 - half:.4f}" size="0.2 0.01 {half:.4f}"'))
+  for k, x in enumerate((-0.19, 0.19)):
+    bodies.append(f"""
+    <body name="rail{k}" pos="{x} 0.2 0.3">
+      <geom name="noviz_collision_rail{k}_0" type="box" size="0.01 0.19 0.03" density="500"/>
+      <geom name="noviz_collision_rail{k}_stub" type="box" pos="0 -0.15 -0.06" size="0.01 0.02 0.03" density="500"/>
+      <site name="side-back,0,conn_site{k}" pos="0 -0.19 0" quat="{q(up_back)}" size="0.01"/>
+      <site name="side-front,0,conn_site{k + 2}" pos="0 0.19 0" quat="{q(turned)}" size="0.01"/>
+    </body>""")
+  return _write(directory, name, bodies)

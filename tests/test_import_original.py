@@ -427,3 +427,39 @@ def test_an_assembly_that_stands_is_not_turned(tmp_path):
   for name, (pos, rot) in _poses(result.path).items():
     np.testing.assert_allclose(rot, np.eye(3), atol=1e-9, err_msg=name)
 
+
+
+def test_names_that_the_files_assembled_layout_contradicts_are_read_as_laid_out(tmp_path):
+  path = original_models.misnamed_chair(tmp_path)
+  model = reader.read(path)
+  solved = assemble.solve(model)
+  read_as = [n for n in solved.notes if " read as " in n]
+  # Each rail's two sites take the other's name (the one at the back also the half turn),
+  # and each of the back's sites gains the half turn it meets the rails at.
+  assert len(read_as) == 6, solved.notes
+  assert read_as[0].startswith("site 'back-side,0,conn_site0' on part 'back' read as "
+                               "'back-side,0,180,conn_site0': the file lays it on "
+                               "'side-front,0,conn_site2' of part 'rail0', turned 180 degrees")
+  assert len(solved.pairs) == 4
+  for body in model.bodies:   # every part where the file has it: rails not reversed
+    pos, rot = solved.poses[body.name]
+    np.testing.assert_allclose(pos, body.pos, atol=1e-9, err_msg=body.name)
+    np.testing.assert_allclose(rot, np.eye(3), atol=1e-9, err_msg=body.name)
+  report = validate.check(convert.convert(path, tmp_path / "out").path)
+  assert report.ok, report.problems
+  # A file whose layout agrees with its names is read as written.
+  assert not [n for n in assemble.solve(reader.read(original_models.table(tmp_path / "t"))).notes
+              if " read as " in n]
+
+
+def test_an_assembly_a_little_off_level_is_set_down_on_all_its_feet(tmp_path):
+  # The back ends 2 mm above the floor: upright the chair rests on its front panel alone,
+  # its centre of mass behind it; tilted 0.3 degrees it stands on both panels.
+  result = convert.convert(original_models.misnamed_chair(tmp_path, short_back=0.002),
+                           tmp_path / "out")
+  turned = [n for n in result.notes if n.startswith("the assembly cannot stand upright")]
+  assert len(turned) == 1 and "set down on all its feet, tilted 0.3 deg" in turned[0], result.notes
+  poses = _poses(result.path)
+  assert poses["back"][0][2] > poses["front"][0][2] + 0.09   # still upright
+  report = validate.check(result.path)
+  assert report.ok, report.problems

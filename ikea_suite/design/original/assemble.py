@@ -4,6 +4,10 @@ The original's body poses are not always the assembled layout (some mated sites
 sit centimetres apart or face opposite ways in the file), so the assembled pose
 is derived from the connector frames alone:
 
+0. A file whose layout is a complete assembly (every connector site meets exactly
+   one site on another part) that its names contradict is read as laid out:
+   chair_ingolf_0650's sides name 'front' the sites at their back ends. Each
+   site takes the type and twist of the pair it is laid in (reported).
 1. Every connector site becomes one of our connectors: type 'A-B', mates
    'B-A', frame turned so that the original's +y forward becomes our +x
    (same up axis z). The twists of a type pair are unified over all its sites
@@ -51,6 +55,7 @@ _CLOSE_POS = 1e-4         # metres: a loop match is kept when its sites meet thi
 _CLOSE_COS = 0.9999       # and their axes agree to this cosine
 _SNAP_POS = seat.SNAP     # metres: a loop site that misses by up to this is moved onto its
                           # partner (the original connects sites within a tolerance)
+_MEET_POS = 0.002         # metres: sites this close in the file's poses meet there
 
 
 @dataclasses.dataclass
@@ -113,6 +118,54 @@ def _unify_twists(connectors, notes):
 def _world(pose, c):
   pos, rot = pose
   return pos + rot @ c.pos, rot @ c.rot
+
+
+def _twist_deg(rot_a, rot_b):
+  """The turn (degrees, in [0, 360)) about a's up axis from a's forward to b's."""
+  m = rot_a.T @ rot_b
+  return round(float(np.degrees(np.arctan2(m[1, 0], m[0, 0]))) % 360.0, 6) % 360.0
+
+
+def _relabel_by_layout(connectors, file_poses, path, notes):
+  """Renames the sites of a file whose layout is a complete assembly that its names contradict.
+
+  When every connector site meets exactly one site on another part in the file's poses
+  (within _MEET_POS, up axes equal) and some of those pairs the names do not mate, the
+  layout is the designer's intent: every pair gets the types and the twist it meets at
+  (chair_ingolf_0650: by name its sides are reversed and its back enters the seat by
+  12 mm; as laid out it is sound).
+  """
+  world = [_world(file_poses[c.body], c) for c in connectors]
+  partner = {}
+  for i, (pos, rot) in enumerate(world):
+    near = [j for j, (q, r) in enumerate(world) if connectors[j].body != connectors[i].body
+            and np.linalg.norm(pos - q) <= _MEET_POS and rot[:, 2] @ r[:, 2] >= _CLOSE_COS]
+    if len(near) != 1:
+      return
+    partner[i] = near[0]
+  if any(partner[j] != i for i, j in partner.items()):
+    return
+  if all(connectors[i].mates == connectors[j].type for i, j in partner.items()):
+    return   # names agree: a twist off the allowed ones is the file's loose placement
+  taken = {c.site for c in connectors}
+  for i, j in partner.items():
+    a, b = connectors[i], connectors[j]
+    twist = _twist_deg(world[i][1], world[j][1])
+    allowed = not a.twists_deg or any(abs((twist - t + 180.0) % 360.0 - 180.0) < 0.5
+                                      for t in a.twists_deg)
+    group, other = a.type.split("-")[0], b.type.split("-")[0]
+    if a.type == f"{group}-{other}" and allowed:
+      continue
+    twists = a.twists_deg and tuple(sorted({*a.twists_deg, round(twist)}))
+    site = (f"{group}-{other},{','.join(f'{t:g}' for t in twists)},"
+            f"{names.CONN_MARK}{names.parse(a.site, path).tag}")
+    while site in taken:
+      site += "r"
+    taken.add(site)
+    notes.append(f"site {a.site!r} on part {a.body!r} read as {site!r}: the file lays it on "
+                 f"{b.site!r} of part {b.body!r}, turned {twist:g} degrees, and every "
+                 "connector site of the file meets exactly one other, so the layout is kept")
+    a.site, a.type, a.mates, a.twists_deg = site, f"{group}-{other}", f"{other}-{group}", twists
 
 
 def _meets(a, b, poses):
@@ -272,8 +325,9 @@ def solve(model: reader.OriginalModel) -> Assembly:
   """
   notes = []
   connectors = _connectors(model)
-  _unify_twists(connectors, notes)
   file_poses = {b.name: (b.pos, b.rot) for b in model.bodies}
+  _relabel_by_layout(connectors, file_poses, model.path, notes)
+  _unify_twists(connectors, notes)
   pairs, unmatched = _match(connectors, file_poses, notes)
   degree = collections.Counter(connectors[k].body for pair in pairs for k in pair)
   order = [b.name for b in model.bodies]

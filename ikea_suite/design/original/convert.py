@@ -282,9 +282,11 @@ def _set_down(furniture):
   for part in furniture.parts:
     part.pos, part.rot = turn @ part.pos, turn @ part.rot
   angle = np.degrees(np.linalg.norm(geometry.mat_to_axis_angle(turn)))
+  how = (f"all its feet, tilted {angle:.1f} deg" if angle <= np.degrees(rest.NEAR_UPRIGHT)
+         else f"its side instead, turned {angle:.0f} deg")
   return [f"the assembly cannot stand upright (its centre of mass lies {-before * 1000:.1f} mm "
-          f"outside the footprint it stands on); set down on its side instead, turned "
-          f"{angle:.0f} deg, the centre of mass {after * 1000:.1f} mm inside that side's footprint"]
+          f"outside the footprint it stands on); set down on {how}, the centre of mass "
+          f"{after * 1000:.1f} mm inside the new footprint"]
 
 
 def _positive_volume(g, converter):
