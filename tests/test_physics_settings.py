@@ -42,6 +42,12 @@ def test_environment_model_file_and_plain_tools_share_one_physics():
   np.testing.assert_allclose(env.physics.model.geom_solref, [physics_settings.CONTACT_SOLREF] * env.physics.model.ngeom)
 
 
+def _floor_contacts(physics):
+  """The contacts with the world body's geoms (the floor)."""
+  bodies = physics.model.geom_bodyid
+  return [c for c in physics.data.contact[:physics.data.ncon] if 0 in (bodies[c.geom1], bodies[c.geom2])]
+
+
 def _hold_and_shake(name, part_name, seconds=3.0):
   """Lifts the assembled furniture by one part with a cursor and shakes it: 0.2 s strokes
   at the cursor's full speed up, down and sideways, while turning about each axis. Also
@@ -63,8 +69,7 @@ def _hold_and_shake(name, part_name, seconds=3.0):
   floor_steps = []
 
   def shake(step):
-    floor_steps.append(any(physics.model.geom_bodyid[c.geom1] == 0 or physics.model.geom_bodyid[c.geom2] == 0
-                           for c in physics.data.contact[:physics.data.ncon]))
+    floor_steps.append(bool(_floor_contacts(physics)))
     action = np.zeros(len(robot.action_names))
     action[6] = 1.0
     action[[0, 2]] = (1, -1, -1, 1)[(step // 4) % 4]
@@ -237,8 +242,6 @@ def test_light_plinths_under_a_heavy_carcass_barely_sink_into_the_floor(tmp_path
   env = rigidity.assemble(str(mjcf_writer.write(_plinth_cabinet("cabinet_test_plinths"), tmp_path)))
   assert env.task.state.complete
   rigidity.measure(env, 2.0)
-  physics = env.physics
-  floor_contacts = [c for c in physics.data.contact[:physics.data.ncon]
-                    if 0 in (physics.model.geom_bodyid[c.geom1], physics.model.geom_bodyid[c.geom2])]
+  floor_contacts = _floor_contacts(env.physics)
   assert floor_contacts
   assert max(-c.dist for c in floor_contacts) < 0.003
