@@ -67,7 +67,7 @@ def test_parts_lie_within_the_band_the_arm_declares(robot):
   # do not reach the floor beside its torso nor far straight ahead.
   env = ikea_suite.load("table_four_leg_lack", robot, seed=5, scale=0.5)
   zone = env.task.robot.reach_zone
-  reach, inner = zone.reach, zone.inner
+  reach, inner = zone.reach, zone.min_distance
   for _ in range(5):
     env.reset()
     _, _, distances = _part_yaws_and_distances(env)

@@ -14,7 +14,7 @@ class ReachZone(NamedTuple):
   base_rot: np.ndarray    # (3, 3) world rotation of the base
   reach: float            # metres from the base that parts may lie at
   sector: float           # half-angle (rad) either side of the base's heading
-  inner: float            # metres from the base inside which no part lies
+  min_distance: float     # metres from the base inside which no part's centre lies
   root_distance: float    # metres from the base to the centre of the part built onto
 
 

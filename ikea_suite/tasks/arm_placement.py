@@ -191,6 +191,6 @@ def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preasse
     if not placement.is_number(value) or not 0 <= value < np.inf:
       raise errors.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
   return ReachableParts(furniture, reach_zone.base_xy, reach_zone.base_rot, reach_zone.reach,
-                        reach_zone.inner, reach_zone.root_distance, reach_zone.sector,
+                        reach_zone.min_distance, reach_zone.root_distance, reach_zone.sector,
                         spread=spread, yaw_range=float(yaw_range), preassembled=preassembled,
                         support=support)
