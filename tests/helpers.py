@@ -53,6 +53,16 @@ def idle_action(env):
   return np.zeros(env.action_spec().shape)
 
 
+def run_expert(env):
+  """Runs `env`'s scripted expert from reset until the furniture is complete or time is up."""
+  from ikea_suite import experts
+  expert = experts.make_expert(env)
+  timestep = env.reset()
+  expert.reset()
+  while not timestep.last() and not env.task.state.complete:
+    timestep = env.step(expert(timestep))
+
+
 def geoms_collide(physics, geom_a, geom_b):
   """MuJoCo's contype/conaffinity filter for two geoms."""
   m = physics.model

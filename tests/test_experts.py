@@ -8,6 +8,7 @@ from ikea_suite import experts
 from ikea_suite.experts import bimanual
 from ikea_suite.oracle import arm_controller
 from ikea_suite.oracle import cursor_oracle
+from tests import helpers
 
 
 @pytest.mark.parametrize("robot,kind", [("cursor", cursor_oracle.CursorOracle),
@@ -69,11 +70,7 @@ def test_sawyer_expert_assembles_the_half_size_lack_table():
   # the fourth for the rest of the episode (3 of 4 legs); it unwinds home now. Success
   # rates are in the sweep (README).
   env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=3, scale=0.5)
-  expert = experts.make_expert(env)
-  timestep = env.reset()
-  expert.reset()
-  while not timestep.last() and not env.task.state.complete:
-    timestep = env.step(expert(timestep))
+  helpers.run_expert(env)
   assert env.task.state.complete   # every leg joined through the action vector
 
 

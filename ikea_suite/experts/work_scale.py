@@ -2,8 +2,8 @@
 furniture whose loose parts are too wide for its gripper there, the largest scale at
 which every loose part fits between its closed and open fingertips.
 
-Grasp widths shrink with the scale and the gripper does not, so a bench's 0.32 m ends
-that no fingers straddle at scale 0.5 fit the Sawyer's 79 mm at about 0.2.
+Grasp widths shrink with the scale and the gripper does not, so a bookcase's side lying
+flat, 140 mm across at scale 0.5, fits the Panda's 79 mm at 0.24.
 `fit_scale` measures that scale from the compiled models (feasibility.grasp_problems'
 test, widths as the parts lie on seed 0 at full size); SMALL_SCALES holds its values,
 so that loading needs no measurement (`python -m ikea_suite.experts.work_scale
@@ -15,27 +15,26 @@ import numpy as np
 from ikea_suite.props import scaling
 
 # fit_scale's values for the models whose parts do not fit at the robot's WORK_SCALE;
-# every other model is assembled at WORK_SCALE. Measured for each robot: on the thirteen
-# models both grippers fit (the two open to 79 mm) the Sawyer and the Panda agree.
-_FIT_BOTH = {"bench_plank_dark_low": 0.2,
-             "bench_plank_oak_long": 0.22,
-             "bench_plank_pine": 0.22,
-             "bench_plank_white_short": 0.22,
-             "bench_slatted_pine_three": 0.2,
-             "bookcase_shelf_unit_billy": 0.24,
-             "bookcase_shelf_unit_w60_h80_open": 0.24,
-             "box_divided_birch": 0.45,
-             "box_divided_white_long": 0.45,
-             "box_lidded_oak": 0.22,
-             "box_open_kuggis": 0.45,
-             "box_open_large_birch": 0.34,
-             "box_open_tall_black": 0.22}
-# robot -> {furniture: scale}
+# every other model is assembled at WORK_SCALE. Measured for each robot with the panel
+# rack (tasks/panel_placement.py), which stands box walls, bench ends, bookcase and
+# cabinet sides and headboards upright: they are taken across their thickness, so the
+# boxes and plank benches now fit both grippers at 0.5. The Sawyer's closed fingertips
+# (14 mm apart) do not squeeze a wall 4-10 mm thick at any scale, so no model fits it
+# at a scale below 0.5 (those that fit at all fit at 0.5).
 SMALL_SCALES = {
-    "sawyer": dict(_FIT_BOTH),
-    "panda": {**_FIT_BOTH,   # the Panda's fingers close fully: these fit it alone
-              "chair_back_dark_bar": 0.22,
-              "chair_back_kids_birch": 0.22,
+    "sawyer": {},
+    "panda": {**{f"bed_slatted_{v}": 0.45 for v in (
+                  "day_black", "junior_pine", "kids_birch_open", "kids_dark_open",
+                  "kids_white", "toddler_white")},
+              **{f"bookcase_shelf_unit_{v}": 0.24 for v in (
+                  "billy", "w40_h106_white", "w40_h202_oak", "w60_h140_pine",
+                  "w60_h80_open", "w80_h106_birch", "w80_h106_white", "w80_h202_black",
+                  "w80_h202_white")},
+              "bookcase_shelf_unit_cd_tower": 0.34,
+              "bookcase_shelf_unit_kids_w60_white": 0.22,
+              "bench_slatted_pine_three": 0.2,
+              "box_lidded_oak": 0.22,
+              "cabinet_doors_wall_w60_dark": 0.22,
               "tv_unit_bench_black": 0.23,
               "tv_unit_bench_oak": 0.23},
 }

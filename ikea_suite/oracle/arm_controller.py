@@ -33,6 +33,12 @@ SETTLED_SPEED = 0.0005
 # Such a hand (one finger against two) holds a lifted part with its fingers aimed this far
 # (rad) short of their closed limit instead of past it; see arm_motion.hold_command.
 HOLD_SHORT_OF_CLOSED = 0.05
+# A panel held by its top edge (grasp_pose.by_top_edge) hangs from the fingers: it goes
+# down onto its mate at this fraction of the arm's top speed (at 25 mm a step it swung
+# as the arm stopped), and the fingers close on it only within EDGE_GATE (m): 6 mm off,
+# as for a leg, one finger pushed a 6 mm box wall over in its slot, the hand held it
+# askew on its top edge, and it pivoted out of the grip during the carry.
+HANGING_SPEED, EDGE_GATE = 0.3, 0.0015
 
 
 class Phase(enum.Enum):
@@ -85,6 +91,7 @@ class ArmAssemblyController:
     self._connections = 0
     self._job = None   # (pair, moving part)
     self._grasp = None   # (position, rotation) of the tool at the grasp
+    self._hanging = False   # the part is held by its top edge (grasp_pose.by_top_edge)
     self._plan = None   # (pair, twist) the held part is brought to
     self._grasp_sign = 1.0   # which of the two symmetric grasps
     self._unreachable = set()   # parts the arm stalled on; skipped until the next connection
@@ -209,9 +216,10 @@ class ArmAssemblyController:
           self._unreachable = set()
       elif phase == Phase.REACH and distance < 0.02 and angle < 0.05:
         self.phase, self._stalled = Phase.DESCEND, 0
-      elif phase == Phase.DESCEND and distance < 0.006 and angle < 0.05 and settled:
+      elif (phase == Phase.DESCEND and angle < 0.05 and settled and distance < (
+          EDGE_GATE if self._grasps.by_top_edge(moving) else 0.006)):
         self.phase, self._counter, self._stalled = Phase.CLOSE, 0, 0
-        self._grasp = (goal, rot)
+        self._grasp, self._hanging = (goal, rot), self._grasps.by_top_edge(moving)
     elif phase == Phase.CLOSE:
       poses[:] = self._servo(robot, physics, arm, *self._grasp)
       self._counter += 1
@@ -281,12 +289,13 @@ class ArmAssemblyController:
         return action
       # Closing the last centimetres slowly keeps the arm from hunting about the goal
       # (measured at scale 0.5: +-1 cm oscillation at gain 0.6, the 5 mm gate never met).
-      poses[:] = self._servo(robot, physics, arm, *goal,
-                             gain=0.6 if phase == Phase.ALIGN else 0.3)
+      poses[:] = self._servo(robot, physics, arm, *goal, gain=0.6 if phase == Phase.ALIGN else 0.3,
+                             max_speed=HANGING_SPEED if self._hanging else 1.0)
       current, rot = targets.part_pose(physics, task.furniture, moving)
       distance = np.linalg.norm(part_pos + offset * side - current)
       angle = np.linalg.norm(geometry.mat_to_axis_angle(part_rot @ rot.T))
-      if phase == Phase.ALIGN and distance < 0.01 and angle < 0.03:
+      # A hanging panel goes down between standing walls with 3 mm to spare (half scale).
+      if phase == Phase.ALIGN and distance < (0.003 if self._hanging else 0.01) and angle < 0.03:
         self.phase = Phase.INSERT
       elif phase == Phase.ALIGN and self._carry_watch.stalled(distance, angle) and self._pinned():
         self._carry_stalled(moving, pair, twist)

@@ -136,8 +136,10 @@ class PoseServo:
     self._offset, self._rot_offset = np.zeros(3), np.zeros(3)
     self._goal = None
 
-  def __call__(self, robot, physics, arm, goal_pos, goal_rot, gain=1.0, max_turn=1.0):
-    """Task-space action entries (6) for this control step."""
+  def __call__(self, robot, physics, arm, goal_pos, goal_rot, gain=1.0, max_turn=1.0,
+               max_speed=1.0):
+    """Task-space action entries (6) for this control step; `max_turn` and `max_speed` cap
+    the turn and the move as fractions of the robot's largest per-step ones."""
     pos, rot = robot.tcp_pose(physics, arm)
     target_pos, target_rot = robot.task_space_target(arm)
     if self._goal is None or np.linalg.norm(goal_pos - self._goal) > self._new_goal:
@@ -152,6 +154,7 @@ class PoseServo:
     aim = geometry.axis_angle_to_mat(self._rot_offset) @ goal_rot
     turn = gain * geometry.mat_to_axis_angle(aim @ target_rot.T) / robot.max_rotation
     move /= max(1.0, np.abs(move).max())
+    move *= min(1.0, max_speed / max(np.abs(move).max(), 1e-12))   # exactly 1 at full speed
     turn *= max_turn / max(max_turn, np.abs(turn).max())
     return np.concatenate([move, turn])
 

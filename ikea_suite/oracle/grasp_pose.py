@@ -9,6 +9,14 @@ from ikea_suite.oracle import arm_motion
 from ikea_suite.oracle import finger_room
 from ikea_suite.oracle import small_parts
 from ikea_suite.oracle import targets
+from ikea_suite.tasks import panel_placement
+
+# A panel standing taller than TALL (in the rack, props/panel_rack.py) is taken by its
+# top edge: the fingertips go EDGE_GRIP below it, across its thickness, and the hand stays
+# above it. Legs, rails and blocks (every part of the catalog's stools and four-leg
+# tables) are taken as low as the fingertips allow, as before.
+TALL = 0.045
+EDGE_GRIP = 0.02
 
 
 class TopDownGrasp:
@@ -62,11 +70,28 @@ class TopDownGrasp:
         point = part_pos + part_rot @ shift
       tip_clearance = small_parts.TIP_CLEARANCE
     point[2] = max(corners[:, 2].min(), self._surface) + route.pad_below + tip_clearance
+    if self.by_top_edge(part):   # at the middle of its top edge, which a lean moves aside
+      up = int(np.argmax(np.abs(part_rot[2])))
+      face = np.mean(bounds, axis=0)
+      face[up] = bounds[int(part_rot[2, up] > 0)][up]
+      point = part_pos + part_rot @ face
+      point[2] += route.pad_below - EDGE_GRIP
     closing = targets.across_long_axis(part_rot, bounds) * sign
     rot = arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
     if not small_parts.active(self._env):   # (small parts are held near one end already)
       point = point + part_rot @ self._room_shift(part, sign, point, rot)
     return point, rot
+
+  def by_top_edge(self, part):
+    """Whether `part`, as it stands now, is taken by its top edge: a panel
+    (tasks/panel_placement.is_panel) standing taller than TALL, as in the rack. It will
+    hang from the fingers like a pendulum. Legs, rails and blocks are taken as low as
+    the fingertips allow however they lie."""
+    physics, furniture = self._env.physics, self._env.task.furniture
+    _, part_rot = targets.part_pose(physics, furniture, part)
+    bounds = furniture.spec.parts[part].bounds
+    height = np.ptp((geometry.box_corners(*bounds) @ part_rot.T)[:, 2])
+    return bool(height > TALL and panel_placement.is_panel(bounds[1] - bounds[0]))
 
   def _room_shift(self, part, sign, point, rot):
     """finger_room's shift of the grasp point (part frame), chosen once per reach for each

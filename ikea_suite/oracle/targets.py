@@ -3,6 +3,7 @@
 import numpy as np
 
 from ikea_suite import geometry
+from ikea_suite.tasks import panel_placement
 
 _ARC_STEP = np.radians(30)
 
@@ -23,8 +24,14 @@ def grasp_point(physics, furniture, part):
 
 def across_long_axis(part_rot, bounds):
   """The horizontal unit vector across a part's long axis as it lies: the direction a
-  top-down grasp closes the fingers along (any, for a part standing on end)."""
-  long_axis = part_rot[:, int(np.argmax(bounds[1] - bounds[0]))].copy()
+  top-down grasp closes the fingers along (any, for a rod standing on end). A panel's
+  long axis is the one reaching furthest horizontally: standing in the rack, its width,
+  never its height (a round seat standing on edge has two longest axes, and the vertical
+  one left the fingers closing across its 179 mm face)."""
+  extents = bounds[1] - bounds[0]
+  if panel_placement.is_panel(extents):
+    extents = extents * np.linalg.norm(part_rot[:2], axis=0)
+  long_axis = part_rot[:, int(np.argmax(extents))].copy()
   long_axis[2] = 0.0
   if np.linalg.norm(long_axis) < 1e-6:
     long_axis = np.array([1.0, 0.0, 0.0])

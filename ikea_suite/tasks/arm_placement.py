@@ -25,6 +25,7 @@ from dm_control import composer
 from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.arenas import support as support_lib
+from ikea_suite.tasks import panel_placement
 from ikea_suite.tasks import placement
 from ikea_suite.tasks import planner
 
@@ -95,6 +96,17 @@ class ReachableParts(placement.PartInitializer):
           f"{furniture.name}'s root part {spec.parts[self._root].name!r} ({2 * root_radius:.2f} m "
           f"across) does not fit on the work table ({2 * min(support.half_size):.2f} m); "
           f"use a smaller scale")
+    self._racked = panel_placement.RackedPanels(spec, self._root, self._root_rest)
+
+  @property
+  def fixtures(self):
+    """Static entities the task attaches to the arena: the panel rack, if any panel stands."""
+    return [self._racked.rack] if self._racked.rack is not None else []
+
+  @property
+  def racked_parts(self):
+    """Indices of the parts that stand in the panel rack (when not preassembled)."""
+    return self._racked.parts
 
   @property
   def root_part(self):
@@ -142,8 +154,18 @@ class ReachableParts(placement.PartInitializer):
             f"the root part (radius {radius:.2f} m) does not fit on the work table")
     self._place(physics, root_item, yaw_rot, xy)
     placed = [(xy, radius)]
+    racked = set(self.racked_parts) & {item[0][0] for item in items if len(item) == 1}
+    if self._racked.rack is not None:   # the rack across a radius from the base, in the band
+      radius = self._racked.radius
+      xy = self._sample_xy(random_state, radius, placed, reach=np.sqrt(max(
+          0.0, (self._reach - panel_placement.RACK_SPARE) ** 2 - self._racked.farthest_slot ** 2)))
+      away = xy - self._base_xy
+      self._racked.place(physics, self._furniture, xy, np.arctan2(away[1], away[0]) + np.pi / 2,
+                         self._support.height, random_state,
+                         skip=set(self.racked_parts) - racked)
+      placed.append((xy, radius))
     for item in items:
-      if any(i == self._root for i, _, _ in item):
+      if any(i == self._root for i, _, _ in item) or (len(item) == 1 and item[0][0] in racked):
         continue
       yaw_rot = geometry.rot_z(random_state.uniform(-self._yaw_range, self._yaw_range))
       _, _, radius = self._item_footprint(item, yaw_rot)
@@ -151,9 +173,11 @@ class ReachableParts(placement.PartInitializer):
       self._place(physics, item, yaw_rot, xy)
       placed.append((xy, radius))
 
-  def _sample_xy(self, random_state, radius, placed):
+  def _sample_xy(self, random_state, radius, placed, reach=None):
+    """A free xy for an item of `radius`, between the nearest distance allowed and `reach`
+    (default the band's outer edge; given, it may leave a band only 1 cm wide)."""
     nearest = max(self._min_distance, self._inner + radius)
-    outer = max(self._reach, nearest + 0.1)
+    outer = max(self._reach, nearest + 0.1) if reach is None else max(reach, nearest + 0.01)
     while True:
       for _ in range(self._max_attempts):
         distance = random_state.uniform(nearest, outer)

@@ -74,6 +74,10 @@ class Assembly(composer.Task):
           f"initializer must be a placement.PartInitializer (it names the pairs it placed "
           f"mated), got {type(initializer).__name__}")
     self._initializer = initializer
+    # Static props the placement needs (the panel rack), fixed to the arena.
+    self._fixtures = list(initializer.fixtures)
+    for fixture in self._fixtures:
+      arena.attach(fixture)
     self._step_reward = 0.0
     self._blocked = ()
     self._suggestion_key = None
@@ -113,8 +117,9 @@ class Assembly(composer.Task):
     # composer calls the task's hook before the entities'; the task needs part ids now.
     self._furniture.after_compile(physics, random_state)
     physics_settings.configure_contacts(physics.model)
+    fixture_geoms = [g for fixture in self._fixtures for g in fixture.geoms]
     physics_settings.configure_supports(
-        physics.model, physics.bind(self._arena.support_geoms).element_id)
+        physics.model, physics.bind(list(self._arena.support_geoms) + fixture_geoms).element_id)
     self._welds.after_compile(physics)
     self._collisions.after_compile(self._furniture)
     model = physics.model
@@ -123,6 +128,8 @@ class Assembly(composer.Task):
     # Per geom: its part index, -1 for robot geoms, -2 for static world geoms (floor, walls).
     self._geom_part = part_of_body[model.geom_bodyid]
     self._geom_part[model.geom_bodyid == 0] = -2
+    if fixture_geoms:   # the rack is static too
+      self._geom_part[physics.bind(fixture_geoms).element_id] = -2
 
   def initialize_episode(self, physics, random_state):
     self._state.reset()
@@ -214,6 +221,11 @@ class Assembly(composer.Task):
   @property
   def root_part(self):
     return self._root
+
+  @property
+  def initializer(self):
+    """The placement.PartInitializer that lays the parts out each episode."""
+    return self._initializer
 
   @property
   def design_pairs(self):

@@ -36,6 +36,11 @@ class PartInitializer(composer.Initializer, abc.ABC):
   def preassembled_pairs(self):
     """Indices into the furniture's connector-pair table placed mated this episode; may be empty."""
 
+  @property
+  def fixtures(self):
+    """Static entities the placement needs in the scene (the task attaches them); none here."""
+    return []
+
 
 class ScatteredParts(PartInitializer):
   """Places parts lying flat, random yaw, in a ring around the origin without overlap.

@@ -1,0 +1,84 @@
+"""A slotted rack that holds thin panels upright, one per slot, as panels wait in a workshop.
+
+A panel lying flat cannot be taken from above by a parallel gripper: it is
+wider than the open fingers (a chair back at half scale is 200 mm across, the
+grippers open 79-111 mm), and a flat wall taken across its height turns the
+hand on its side when it is stood up, which puts the wrist in the floor. Stood
+in a slot, the same panel is taken by its top edge, fingers across its
+thickness, and is carried and lowered onto its mate already upright.
+
+The rack is static: a base plate with a low fin either side of each slot. It
+is built for the panels it holds (each slot is the panel's thickness plus
+SLOT_PLAY wide and as long as the panel); the slots sit PITCH apart, so that
+the open fingers of the widest-opening hand (the Jaco's, 111 mm) straddle one
+panel clear of the next. The rack frame's x is along the row of slots; a
+panel in slot k stands with its thickness along x, centred at `slot_centre(k)`.
+"""
+
+import numpy as np
+from dm_control import composer
+from dm_control import mjcf
+
+PITCH = 0.11          # m between slot centres: 55 mm from a panel's middle to the next's
+SLOT_PLAY = 0.002     # m of free play across a slot (1 mm a side of the panel)
+PLATE = 0.008         # m, thickness of the base plate the panels stand on
+FIN_THICKNESS = 0.005  # m
+MARGIN = 0.01         # m the plate reaches beyond the slots and fins
+# The fins reach 0.4 of the shortest panel's height, at most 30 mm: low enough that the
+# fingertips, which take a panel by its top 20 mm (oracle/grasp_pose.EDGE_GRIP), stay
+# clear above them, high enough that a panel leans at most play / fin height (5 degrees
+# for a 60 mm box wall) in its slot.
+FIN_HEIGHT_FRACTION = 0.4
+MAX_FIN_HEIGHT = 0.03
+
+
+class PanelRack(composer.Entity):
+  """A static rack with one upright slot per panel.
+
+  Args (to _build):
+    slots: (thickness, length, height) of each panel, m, in slot order.
+    name: the model name.
+  """
+
+  def _build(self, slots, name="panel_rack"):
+    slots = np.asarray(slots, dtype=float).reshape(-1, 3)
+    self._mjcf_root = mjcf.RootElement(model=name)
+    self._num_slots = len(slots)
+    fin_height = min(MAX_FIN_HEIGHT, FIN_HEIGHT_FRACTION * slots[:, 2].min())
+    half_row = (self._num_slots - 1) * PITCH / 2 + PITCH / 2
+    half_width = slots[:, 1].max() / 2 + MARGIN
+    self._half_size = np.array([half_row, half_width])
+    wood = self._mjcf_root.asset.add("material", name="rack_wood", rgba=(0.55, 0.42, 0.3, 1.0),
+                                     specular=0.2, shininess=0.2)
+    body = self._mjcf_root.worldbody
+    self._geoms = [body.add("geom", name="plate", type="box", material=wood,
+                            pos=(0.0, 0.0, PLATE / 2), size=(half_row, half_width, PLATE / 2))]
+    for k, (thickness, length, _) in enumerate(slots):
+      for side in (-1, 1):
+        x = self.slot_centre(k)[0] + side * (thickness + SLOT_PLAY + FIN_THICKNESS) / 2
+        self._geoms.append(body.add(
+            "geom", name=f"fin_{k}_{'ab'[side > 0]}", type="box", material=wood,
+            pos=(x, 0.0, PLATE + fin_height / 2),
+            size=(FIN_THICKNESS / 2, length / 2 + MARGIN / 2, fin_height / 2)))
+
+  @property
+  def mjcf_model(self):
+    return self._mjcf_root
+
+  @property
+  def num_slots(self):
+    return self._num_slots
+
+  @property
+  def half_size(self):
+    """Half extents (2,) of the rack's footprint along its own x (the row) and y, m."""
+    return self._half_size.copy()
+
+  @property
+  def geoms(self):
+    """The plate and the fins: the rack's collision geoms, on which panels stand."""
+    return list(self._geoms)
+
+  def slot_centre(self, k):
+    """Point (3,) in the rack frame where slot k's panel stands: the middle of its bottom edge."""
+    return np.array([(k - (self._num_slots - 1) / 2) * PITCH, 0.0, PLATE])

@@ -1,0 +1,124 @@
+"""The panel rack: thin panels that stand upright in the furniture wait upright for an arm."""
+
+import numpy as np
+import pytest
+
+import ikea_suite
+from ikea_suite import geometry
+from ikea_suite.experts import feasibility
+from ikea_suite.props import panel_rack
+from ikea_suite.tasks import panel_placement
+from tests import helpers
+
+WALLS = ["long_wall0", "long_wall1", "short_wall0", "short_wall1"]
+
+
+def _env(furniture="box_open_small_white", robot="panda", seed=0):
+  env = ikea_suite.load(furniture, robot, scale=0.5, seed=seed)
+  env.reset()
+  return env
+
+
+def _racked_names(env):
+  spec = env.task.furniture.spec
+  return sorted(spec.parts[i].name for i in env.task.initializer.racked_parts)
+
+
+def _rack_body(env):
+  return env.physics.bind(env.task.initializer.fixtures[0].mjcf_model.worldbody)
+
+
+def _tilt_degrees(rot):
+  """Angle (deg) between a standing panel's plane and the vertical: its normal's rise."""
+  return [np.degrees(np.arcsin(min(1.0, np.min(np.abs(r[2]))))) for r in rot]
+
+
+def test_box_walls_stand_upright_in_their_slots_within_reach():
+  env = _env()
+  assert _racked_names(env) == WALLS
+  rack = env.task.initializer.fixtures[0]
+  positions, rotations = env.task.furniture.part_poses(env.physics)
+  racked = env.task.initializer.racked_parts
+  rack_pos = _rack_body(env).xpos
+  rack_rot = _rack_body(env).xmat.reshape(3, 3)
+  for slot, part in enumerate(racked):
+    rot = rotations[part]
+    spec = env.task.furniture.spec.parts[part]
+    thin = int(np.argmin(spec.bounds[1] - spec.bounds[0]))
+    assert abs(rot[2, thin]) < 1e-6   # the thickness lies horizontal: the panel stands
+    assert abs(abs(rot[:, thin] @ rack_rot[:, 0]) - 1.0) < 1e-6   # across the slot
+    corners = geometry.box_corners(*spec.bounds) @ rot.T + positions[part]
+    assert corners[:, 2].min() == pytest.approx(rack_pos[2] + panel_rack.PLATE, abs=2e-3)
+    slot_centre = rack_pos + rack_rot @ rack.slot_centre(slot)
+    assert np.linalg.norm(corners[:, :2].mean(0) - slot_centre[:2]) < 1e-3
+  zone = env.task.robot.reach_zone
+  distance = np.linalg.norm(rack_pos[:2] - zone.base_xy)
+  assert zone.min_distance <= distance <= zone.reach
+
+
+@pytest.mark.parametrize("robot", ["panda", "jaco"])
+def test_the_farthest_slot_stands_well_within_reach(robot):
+  # Fingers that must close within 1.5 mm of a panel's edge miss it at full stretch.
+  env = ikea_suite.load("box_open_small_white", robot, scale=0.5, seed=4)
+  zone = env.task.robot.reach_zone
+  for _ in range(6):
+    env.reset()
+    rack = env.task.initializer.fixtures[0]
+    body = _rack_body(env)
+    for slot in (0, rack.num_slots - 1):
+      centre = body.xpos + body.xmat.reshape(3, 3) @ rack.slot_centre(slot)
+      assert np.linalg.norm(centre[:2] - zone.base_xy) <= (
+          zone.reach - panel_placement.RACK_SPARE + 1e-6)
+
+
+def test_racked_panels_stand_still_until_taken():
+  env = _env(seed=3)
+  racked = env.task.initializer.racked_parts
+  before, _ = env.task.furniture.part_poses(env.physics)
+  before = before[racked].copy()
+  for _ in range(40):   # 2 s, the arm holding still
+    env.step(np.zeros(env.action_spec().shape))
+  after, rotations = env.task.furniture.part_poses(env.physics)
+  assert np.abs(after[racked] - before).max() < 0.002   # the 1 mm drop onto the plate
+  assert max(_tilt_degrees(rotations[racked])) < 0.5
+
+
+def test_only_panels_that_stand_in_the_furniture_are_racked():
+  # A lid lies flat on the box: it stays lying on the floor, like every stool's and
+  # four-leg table's legs, whose placement is unchanged (no rack in their scene).
+  assert "lid" not in _racked_names(_env("box_lidded_white_flat"))
+  for furniture in ("table_four_leg_lack", "stool_round_frosta"):
+    env = _env(furniture)
+    assert env.task.initializer.racked_parts == []
+    assert env.task.initializer.fixtures == []
+  # The Cursor's scattered placement has no rack either.
+  cursor = ikea_suite.load("box_open_small_white", "cursor", seed=0)
+  assert cursor.task.initializer.fixtures == []
+
+
+def test_walls_in_the_rack_fit_the_panda_and_are_too_thin_for_the_sawyer():
+  assert feasibility.grasp_problems(_env()) == []
+  problems = feasibility.grasp_problems(_env(robot="sawyer"))
+  assert sorted(p.part for p in problems) == WALLS
+  assert all("narrower than the closed" in str(p) for p in problems)
+
+
+def test_a_round_seat_standing_in_the_rack_is_taken_across_its_thickness():
+  assert feasibility.grasp_problems(_env("stool_pedestal_birch_bar")) == []
+
+
+def test_panda_expert_takes_box_walls_from_the_rack_and_assembles_the_box():
+  env = ikea_suite.load("box_open_small_white", "panda", scale=0.5, seed=1)
+  helpers.run_expert(env)
+  assert env.task.state.complete   # four walls joined through the action vector
+
+
+def test_the_rack_stands_on_the_work_table_when_there_is_one():
+  env = ikea_suite.load("box_open_small_white", "panda", scale=0.5, seed=2, arena="work_table")
+  env.reset()
+  rack_pos = _rack_body(env).xpos
+  support = env.task.arena.support
+  assert rack_pos[2] == pytest.approx(support.height)
+  assert support.contains(rack_pos[:2], np.linalg.norm(env.task.initializer.fixtures[0].half_size))
+  positions, _ = env.task.furniture.part_poses(env.physics)
+  assert (positions[env.task.initializer.racked_parts, 2] > support.height + panel_rack.PLATE).all()
