@@ -5,7 +5,10 @@ import pytest
 
 import ikea_suite
 from ikea_suite import geometry
+from ikea_suite import experts
 from ikea_suite.experts import feasibility
+from ikea_suite.oracle import mating
+from ikea_suite.oracle import targets
 from ikea_suite.props import panel_rack
 from ikea_suite.tasks import panel_placement
 from tests import helpers
@@ -122,3 +125,45 @@ def test_the_rack_stands_on_the_work_table_when_there_is_one():
   assert support.contains(rack_pos[:2], np.linalg.norm(env.task.initializer.fixtures[0].half_size))
   positions, _ = env.task.furniture.part_poses(env.physics)
   assert (positions[env.task.initializer.racked_parts, 2] > support.height + panel_rack.PLATE).all()
+
+
+def _pair_between(env, part_a, part_b):
+  table = env.task.furniture.connectors
+  names = [p.name for p in env.task.furniture.spec.parts]
+  a, b = names.index(part_a), names.index(part_b)
+  for pair in range(table.num_pairs):
+    if {int(table.part[table.pair_a[pair]]), int(table.part[table.pair_b[pair]])} == {a, b}:
+      return pair, b
+
+
+def test_a_bench_end_mated_the_wrong_way_round_is_off_design():
+  # Both twists attach an end to the seat, but one turns its stretcher slot outwards.
+  env = _env("bench_plank_pine")
+  pair, end = _pair_between(env, "seat", "end0")
+  off = []
+  for twist in (0.0, np.pi):
+    pos, rot, _ = targets.mated_part_pose(env.physics, env.task.furniture, pair, end, twist)
+    off.append(mating.off_design(env, end, pos, rot, pair))
+  assert min(off) < 1e-6
+  assert max(off) > env.task.thresholds.distance   # 15 mm: the far face of a 15 mm end
+
+
+def test_a_stretcher_between_the_standing_ends_goes_in_from_above():
+  env = ikea_suite.load("bench_plank_pine", "panda", scale=0.5, seed=1)
+  expert = experts.make_expert(env)
+  timestep = env.reset()
+  expert.reset()
+  while len(env.task.state.connections) < 2 and not timestep.last():   # both ends on
+    timestep = env.step(expert(timestep))
+  pair, stretcher = _pair_between(env, "end0", "stretcher")
+  _, _, alone = targets.mated_part_pose(env.physics, env.task.furniture, pair, stretcher, 0.0)
+  _, _, side = mating.mate_pose(env, pair, stretcher, 0.0)
+  assert abs(alone[2]) < 0.1   # along its own axis: through the far end
+  np.testing.assert_allclose(side, [0.0, 0.0, 1.0])
+
+
+def test_panda_expert_assembles_a_plank_bench_from_the_rack():
+  env = ikea_suite.load("bench_plank_white_short", "panda", scale=0.5, seed=0)
+  assert _racked_names(env) == ["end0", "end1", "stretcher"]
+  helpers.run_expert(env)
+  assert env.task.state.complete

@@ -269,8 +269,7 @@ class ArmAssemblyController:
         self._plan, self._stalled, self._inserting = None, 0, 0
         self.phase = Phase.ALIGN
         return action
-      part_pos, part_rot, side = targets.mated_part_pose(
-          physics, task.furniture, pair, moving, twist)
+      part_pos, part_rot, side = mating.mate_pose(env, pair, moving, twist)
       # Inserting, stop 0.4 of the connect distance short (4 mm at scale 0.5), which shrinks
       # with the furniture: a fixed 4 mm lay outside scale 0.22's 0.9 x 4.4 mm tolerance.
       offset = self._approach if phase == Phase.ALIGN else 0.4 * task.thresholds.distance

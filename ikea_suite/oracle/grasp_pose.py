@@ -11,11 +11,11 @@ from ikea_suite.oracle import small_parts
 from ikea_suite.oracle import targets
 from ikea_suite.tasks import panel_placement
 
-# A panel standing taller than TALL (in the rack, props/panel_rack.py) is taken by its
+# A panel standing TALL or taller (in the rack, props/panel_rack.py) is taken by its
 # top edge: the fingertips go EDGE_GRIP below it, across its thickness, and the hand stays
 # above it. Legs, rails and blocks (every part of the catalog's stools and four-leg
 # tables) are taken as low as the fingertips allow, as before.
-TALL = 0.045
+TALL = panel_placement.MIN_HEIGHT
 EDGE_GRIP = 0.02
 
 
@@ -84,14 +84,14 @@ class TopDownGrasp:
 
   def by_top_edge(self, part):
     """Whether `part`, as it stands now, is taken by its top edge: a panel
-    (tasks/panel_placement.is_panel) standing taller than TALL, as in the rack. It will
+    (tasks/panel_placement.is_panel) standing TALL or taller, as in the rack. It will
     hang from the fingers like a pendulum. Legs, rails and blocks are taken as low as
     the fingertips allow however they lie."""
     physics, furniture = self._env.physics, self._env.task.furniture
     _, part_rot = targets.part_pose(physics, furniture, part)
     bounds = furniture.spec.parts[part].bounds
     height = np.ptp((geometry.box_corners(*bounds) @ part_rot.T)[:, 2])
-    return bool(height > TALL and panel_placement.is_panel(bounds[1] - bounds[0]))
+    return bool(height >= TALL and panel_placement.is_panel(bounds[1] - bounds[0]))
 
   def _room_shift(self, part, sign, point, rot):
     """finger_room's shift of the grasp point (part frame), chosen once per reach for each

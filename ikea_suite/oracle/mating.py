@@ -27,6 +27,50 @@ def tool_goal_for_part(env, arm, part, part_goal_pos, part_goal_rot, grip=None):
   return part_goal_pos + part_goal_rot @ grip_pos, part_goal_rot @ grip_rot
 
 
+def mate_pose(env, pair, moving, twist):
+  """targets.mated_part_pose of `moving` for the pair at `twist`: (position, rotation, side
+  to approach from). A part that bridges the assembly there (another of its connectors
+  then meets one of the assembly's too, as a bench's stretcher meets both ends) comes
+  in from above: along its own axis, from the side, it would run through the far end."""
+  task, physics = env.task, env.physics
+  part_pos, part_rot, side = targets.mated_part_pose(physics, task.furniture, pair, moving,
+                                                     twist)
+  table = task.furniture.connectors
+  groups = task.state.group_labels()
+  mine = np.flatnonzero(table.part == moving)
+  mine = mine[(mine != table.pair_a[pair]) & (mine != table.pair_b[pair])]
+  if mine.size:
+    cpos, _ = table.world_frames(*task.furniture.part_poses(physics))
+    built = np.flatnonzero(groups[table.part] == groups[task.root_part])
+    there = part_pos + table.local_pos[mine] @ part_rot.T
+    gaps = np.linalg.norm(there[:, None] - cpos[built][None], axis=-1)
+    if built.size and gaps.min() < task.thresholds.distance:
+      side = np.array([0.0, 0.0, 1.0])
+  return part_pos, part_rot, side
+
+
+def off_design(env, moving, part_pos, part_rot, pair):
+  """How far (m) the held part's other connectors (all but the pair's) would lie, with the
+  part at (part_pos, part_rot), from where the assembled design has connectors of their
+  types (laid out from the root as it lies now): 0 when the part sits as the design has
+  it, or as an identical part does. A bench end mated on its seat slot the wrong way
+  round (both twists attach) turns its stretcher slot outwards, and the stretcher can
+  then never go in."""
+  task, physics = env.task, env.physics
+  furniture, table = task.furniture, task.furniture.connectors
+  mine = np.flatnonzero(table.part == moving)
+  mine = mine[(mine != table.pair_a[pair]) & (mine != table.pair_b[pair])]
+  if not mine.size:
+    return 0.0
+  rotation, translation = targets.design_to_world(physics, furniture, task.root_part)
+  parts = furniture.spec.parts
+  designed = np.array([rotation @ (parts[p].rot @ local + parts[p].pos) + translation
+                       for p, local in zip(table.part, table.local_pos)])
+  types = np.array(table.types)
+  return max(float(np.linalg.norm(designed[types == types[c]] - (
+      part_pos + part_rot @ table.local_pos[c]), axis=1).min()) for c in mine)
+
+
 def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None):
   """(score, pair, twist) for the held part: the mate and twist the arm reaches best.
 
@@ -51,8 +95,7 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None):
     for twist in twists:
       if (int(pair), float(twist)) in failed_plans:
         continue
-      part_pos, part_rot, side = targets.mated_part_pose(
-          physics, task.furniture, pair, moving, twist)
+      part_pos, part_rot, side = mate_pose(env, pair, moving, twist)
       goal_pos, goal_rot = tool_goal_for_part(
           env, arm, moving, part_pos + approach * side, part_rot, grip)
       # A wrist folded in beside the base is cramped: the differential IK stalls there.
@@ -62,7 +105,9 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None):
       # it and drags the assembly along: come in from outside.
       inward = max(0.0, np.linalg.norm(goal_pos[:2] - centre) - np.linalg.norm(wrist[:2] - centre))
       score = (reach_cost(robot, physics, arm, goal_pos, goal_rot) + 2.0 * cramped
-               + 2.0 * inward + 0.3 * np.linalg.norm(goal_pos[:2] - part_xy))   # mates nearby
+               + 2.0 * inward + 0.3 * np.linalg.norm(goal_pos[:2] - part_xy)   # mates nearby
+               + 5.0 * (off_design(env, moving, part_pos, part_rot, pair)
+                        > task.thresholds.distance))
       if best is None or score < best[0]:
         best = (score, int(pair), float(twist))
   return best

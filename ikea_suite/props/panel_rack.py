@@ -24,12 +24,13 @@ SLOT_PLAY = 0.002     # m of free play across a slot (1 mm a side of the panel)
 PLATE = 0.008         # m, thickness of the base plate the panels stand on
 FIN_THICKNESS = 0.005  # m
 MARGIN = 0.01         # m the plate reaches beyond the slots and fins
-# The fins reach 0.4 of the shortest panel's height, at most 30 mm: low enough that the
-# fingertips, which take a panel by its top 20 mm (oracle/grasp_pose.EDGE_GRIP), stay
-# clear above them, high enough that a panel leans at most play / fin height (5 degrees
-# for a 60 mm box wall) in its slot.
+# The fins reach 0.4 of the shortest panel's height, at most 30 mm, and leave its top
+# FINGER_ROOM clear: low enough that the fingertips, which take a panel by its top 20 mm
+# (oracle/grasp_pose.EDGE_GRIP), stay above them, high enough that a panel leans at most
+# play / fin height (5 degrees for a 60 mm box wall) in its slot.
 FIN_HEIGHT_FRACTION = 0.4
 MAX_FIN_HEIGHT = 0.03
+FINGER_ROOM = 0.025
 
 
 class PanelRack(composer.Entity):
@@ -44,7 +45,8 @@ class PanelRack(composer.Entity):
     slots = np.asarray(slots, dtype=float).reshape(-1, 3)
     self._mjcf_root = mjcf.RootElement(model=name)
     self._num_slots = len(slots)
-    fin_height = min(MAX_FIN_HEIGHT, FIN_HEIGHT_FRACTION * slots[:, 2].min())
+    shortest = slots[:, 2].min()
+    fin_height = min(MAX_FIN_HEIGHT, FIN_HEIGHT_FRACTION * shortest, shortest - FINGER_ROOM)
     half_row = (self._num_slots - 1) * PITCH / 2 + PITCH / 2
     half_width = slots[:, 1].max() / 2 + MARGIN
     self._half_size = np.array([half_row, half_width])

@@ -3,7 +3,7 @@
 A part is racked when it is a thin panel (its thickness under PANEL_RATIO of its
 next-smallest extent) that stands upright in the assembled furniture (its
 thin axis horizontal once the root lies as placed) and is at least
-MIN_HEIGHT tall standing: a box wall, a chair back, a cabinet side. It stands
+MIN_HEIGHT tall standing: a box wall, a bench's stretcher, a chair back, a cabinet side. It stands
 in its slot as it will stand in the furniture, up to a turn about the vertical,
 so the arm carries it upright from the rack to its mate. Rods and blocks (legs,
 the parts of every stool and four-leg table in the catalog) still lie on the
@@ -15,10 +15,11 @@ import numpy as np
 from ikea_suite import geometry
 from ikea_suite.props import panel_rack
 
-PANEL_RATIO = 0.25
+PANEL_RATIO = 0.26   # a bench's 20 x 80 mm stretcher (a quarter) is a panel
 # Standing, a racked panel's top must clear the fins by the fingers' grip on its top edge
-# (20 mm, oracle/grasp_pose.EDGE_GRIP) with room to spare.
-MIN_HEIGHT = 0.05
+# (20 mm, oracle/grasp_pose.EDGE_GRIP) with room to spare (panel_rack.FINGER_ROOM); the
+# expert takes a panel this tall or taller by its top edge.
+MIN_HEIGHT = 0.035
 # The rack stands where its farthest slot lies this far (m) within the arm's reach: the
 # fingers close only within 1.5 mm of a panel's edge, which the Panda, stretched to its
 # 0.8 m reach, did not attain (fresh seeds 14005 and 14010: every box failed there).
