@@ -7,6 +7,7 @@ import ikea_suite
 from ikea_suite import geometry
 from ikea_suite import experts
 from ikea_suite.experts import feasibility
+from ikea_suite.oracle import arm_controller
 from ikea_suite.oracle import mating
 from ikea_suite.oracle import targets
 from ikea_suite.props import panel_rack
@@ -167,3 +168,23 @@ def test_panda_expert_assembles_a_plank_bench_from_the_rack():
   assert _racked_names(env) == ["end0", "end1", "stretcher"]
   helpers.run_expert(env)
   assert env.task.state.complete
+
+
+def test_jaco_keeps_squeezing_a_wall_it_holds_by_the_edge():
+  # Its usual hold, 0.05 rad short of closed (for 18 mm legs), opened its fingers off a
+  # 6 mm wall as the lift began, and the wall fell back into its slot.
+  env = ikea_suite.load("box_open_small_white", "jaco", scale=0.5, seed=0)
+  expert = experts.make_expert(env)
+  timestep = env.reset()
+  expert.reset()
+  grip = []
+  while expert.phase != arm_controller.Phase.ALIGN and not timestep.last():
+    action = expert(timestep)
+    if expert.phase == arm_controller.Phase.LIFT:
+      grip.append(action[env.task.robot.actions_per_arm - 1])
+    timestep = env.step(action)
+  assert grip and min(grip) == 1.0
+  part = expert.job[1]
+  assert expert._holding(part)
+  position, _ = env.task.furniture.part_poses(env.physics)
+  assert position[part][2] > 0.08   # lifted out of the rack
