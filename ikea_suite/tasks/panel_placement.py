@@ -3,11 +3,12 @@
 A part is racked when it is a thin panel (its thickness under PANEL_RATIO of its
 next-smallest extent) that stands upright in the assembled furniture (its
 thin axis horizontal once the root lies as placed) and is at least
-MIN_HEIGHT tall standing: a box wall, a bench's stretcher, a chair back, a cabinet side. It stands
-in its slot as it will stand in the furniture, up to a turn about the vertical,
-so the arm carries it upright from the rack to its mate. Rods and blocks (legs,
-the parts of every stool and four-leg table in the catalog) still lie on the
-floor, and so does a panel that lies flat when assembled (a shelf, a lid).
+MIN_HEIGHT tall standing: a box wall, a bench's stretcher, a chair back, a
+cabinet side. It stands in its slot as it will stand in the furniture, up to a
+turn about the vertical, so the arm carries it upright from the rack to its mate.
+Rods and blocks (legs, the parts of every stool and four-leg table in the
+catalog) still lie on the floor, and so does a panel that lies flat when
+assembled (a shelf, a lid).
 """
 
 import numpy as np
