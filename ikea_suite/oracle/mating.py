@@ -27,6 +27,12 @@ def tool_goal_for_part(env, arm, part, part_goal_pos, part_goal_rot, grip=None):
   return part_goal_pos + part_goal_rot @ grip_pos, part_goal_rot @ grip_rot
 
 
+def _other_connectors(table, moving, pair):
+  """Indices of `moving`'s connectors other than the pair's."""
+  mine = np.flatnonzero(table.part == moving)
+  return mine[(mine != table.pair_a[pair]) & (mine != table.pair_b[pair])]
+
+
 def mate_pose(env, pair, moving, twist):
   """targets.mated_part_pose of `moving` for the pair at `twist`: (position, rotation, side
   to approach from). A part that bridges the assembly there (another of its connectors
@@ -37,8 +43,7 @@ def mate_pose(env, pair, moving, twist):
                                                      twist)
   table = task.furniture.connectors
   groups = task.state.group_labels()
-  mine = np.flatnonzero(table.part == moving)
-  mine = mine[(mine != table.pair_a[pair]) & (mine != table.pair_b[pair])]
+  mine = _other_connectors(table, moving, pair)
   if mine.size:
     cpos, _ = table.world_frames(*task.furniture.part_poses(physics))
     built = np.flatnonzero(groups[table.part] == groups[task.root_part])
@@ -58,8 +63,7 @@ def off_design(env, moving, part_pos, part_rot, pair):
   then never go in."""
   task, physics = env.task, env.physics
   furniture, table = task.furniture, task.furniture.connectors
-  mine = np.flatnonzero(table.part == moving)
-  mine = mine[(mine != table.pair_a[pair]) & (mine != table.pair_b[pair])]
+  mine = _other_connectors(table, moving, pair)
   if not mine.size:
     return 0.0
   rotation, translation = targets.design_to_world(physics, furniture, task.root_part)
