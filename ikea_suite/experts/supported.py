@@ -6,7 +6,7 @@ furniture over 20 seeds, 11000-11019 (--seed-start 11000 and 11010, --seeds
 10), with the code of 2026-11-26, eighth session: the floor's hard contact
 impedance (physics_settings.SUPPORT_SOLIMP), the experts as in the seventh
 session. A Baxter pair also needs both arms in at least 16 of its complete
-episodes. The Jaco: no stool or table reaches 80%; three boxes do (below). The Panda's boxes and bench, whose
+episodes. The Jaco: no stool or table reaches 80%; its seven boxes do (below). The Panda's boxes and bench, whose
 walls, ends and stretcher stand in the panel rack (tasks/panel_placement.py),
 were measured with the code of the ninth session on 40 other fresh seeds each:
 the boxes on 15000-15019 and 16000-16019, the benches, trestle desks and tables
@@ -52,9 +52,14 @@ SUPPORTED = {
                "stool_round_frosta": 0.5,         # 18/20, both arms in 17
                "stool_square_pine": 0.5},         # 16/20, both arms in all 16
                # low_white and dark_low: 16/20, both arms in 15; side_oak 14/20
-    # The Jaco's boxes: fresh seeds 19000-19019, the ninth session's final code (its
-    # stools and tables: best on 11000-11019 stool_round_low_white 8/20, frosta 6/20).
-    "jaco": {"box_divided_birch": 0.5,            # 16/20
+    # The Jaco's boxes: fresh seeds 21000-21019, the tenth session's code (the carry
+    # lowered to what the arm reaches; its stools and tables: best on 11000-11019
+    # stool_round_low_white 8/20, frosta 6/20).
+    "jaco": {"box_divided_birch": 0.5,            # 20/20
+             "box_divided_white_long": 0.5,       # 20/20
+             "box_open_kuggis": 0.5,              # 19/20
+             "box_open_large_birch": 0.5,         # 20/20
+             "box_open_shoe_dark": 0.5,           # 20/20
              "box_open_small_white": 0.5,         # 20/20
-             "box_open_tall_black": 0.5},         # 20/20 (box_open_kuggis 15/20)
+             "box_open_tall_black": 0.5},         # 20/20
 }

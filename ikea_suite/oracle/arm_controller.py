@@ -249,6 +249,7 @@ class ArmAssemblyController:
         self._plan, self._carrying = mating.plan_mating(
             env, arm, moving, self._approach, self._failed_plans), True
         self._carry_watch.reset()
+        self._carry_top = self._surface + self._carry
         if self._plan is not None:
           self._plan = self._plan[1:]
           self._root_at_plan = targets.part_pose(physics, task.furniture, task.root_part)[0]
@@ -276,7 +277,7 @@ class ArmAssemblyController:
       offset = self._approach if phase == Phase.ALIGN else 0.4 * task.thresholds.distance
       goal = mating.tool_goal_for_part(env, arm, moving, part_pos + offset * side, part_rot)
       if self._carrying:   # first over the goal at carry height, then down to it
-        high = goal[0] + [0.0, 0.0, max(0.0, self._surface + self._carry - goal[0][2])]
+        high = goal[0] + [0.0, 0.0, max(0.0, self._carry_top - goal[0][2])]
         # Turning slowly keeps a held part from swinging out of the fingers.
         poses[:] = self._servo(robot, physics, arm, self._clearance.arc_waypoint(high), goal[1],
                                           max_turn=0.3)
@@ -284,8 +285,15 @@ class ArmAssemblyController:
         self._carrying = not (distance < 0.03 and angle < 0.05)
         if not self._carrying:
           self._carry_watch.reset()   # on to the goal below
-        elif self._carry_watch.stalled(distance, angle) and self._pinned():
-          self._carry_stalled(moving, pair, twist)
+        elif self._carry_watch.stalled(distance, angle):
+          if arm_motion.pinned(robot, physics, arm):
+            self._carry_stalled(moving, pair, twist)
+          else:   # out of reach up there? Lower, clear of the assembly.
+            top = self._clearance.reachable_carry(
+                goal[0], goal[1], self._carry_top, moving, part_pos + offset * side, part_rot)
+            if top < self._carry_top - 0.01:
+              self._carry_top = top
+              self._carry_watch.reset()
         return action
       # Closing the last centimetres slowly keeps the arm from hunting about the goal
       # (measured at scale 0.5: +-1 cm oscillation at gain 0.6, the 5 mm gate never met).
@@ -297,7 +305,8 @@ class ArmAssemblyController:
       # A hanging panel goes down between standing walls with 3 mm to spare (half scale).
       if phase == Phase.ALIGN and distance < (0.003 if self._hanging else 0.01) and angle < 0.03:
         self.phase = Phase.INSERT
-      elif phase == Phase.ALIGN and self._carry_watch.stalled(distance, angle) and self._pinned():
+      elif phase == Phase.ALIGN and self._carry_watch.stalled(distance, angle) and (
+          arm_motion.pinned(robot, physics, arm)):
         self._carry_stalled(moving, pair, twist)
       elif phase == Phase.INSERT and sensing.attachable(task, physics, pair, self._tolerance):
         self._plan = None
@@ -344,10 +353,9 @@ class ArmAssemblyController:
     return action
 
   def _settled(self):
-    """The hand has come to rest, where its fingers curl below the tool centre: the Jaco's
-    arm, still moving when it met the descent's gate, dipped 6-8 mm further and swung 1 cm
-    sideways while the fingers closed, and their tips, sweeping 1 cm below the tool
-    centre, struck the floor beside the part and never closed on it (tuning seed 2)."""
+    """The hand has come to rest, where its fingers curl below the tool centre: the Jaco's,
+    still moving at the descent's gate, dipped and swung 1 cm sideways while closing, and
+    the tips struck the floor beside the part (tuning seed 2)."""
     tcp, _ = self._robot.tcp_pose(self._env.physics, self._arm)
     last, self._last_tcp = self._last_tcp, tcp
     return (not self._against_pair() or
@@ -363,16 +371,11 @@ class ArmAssemblyController:
     if self._unwinder.distance_from_home(self._robot, self._env.physics, self._arm) > UNWIND_FROM:
       self._unwind()
 
-  def _pinned(self):
-    """A joint of the arm at the limit the IK keeps it in (within 0.02 rad)."""
-    return arm_motion.joint_margins(self._robot, self._env.physics, self._arm).min() < 0.02
-
   def _carry_stalled(self, moving, pair, twist):
     """A carry that stopped short of its mating pose with a joint at its limit: another
-    mate or twist first; stalled again, set the part back down and take it with the
-    other of its two grasps (the wrist then turns the other way; the Panda's last joint
-    was pinned at its limit after every replan). Other stalls keep the 2 * stall_steps
-    budget (a slow approach may still get there)."""
+    mate or twist first; stalled again, set the part down and take it with its other
+    grasp (the Panda's last joint was pinned at its limit after every replan). Other
+    stalls keep the 2 * stall_steps budget (a slow approach may still get there)."""
     self._failed_plans.add((pair, twist))
     self._plan, self._stalled, self._inserting = None, 0, 0
     self._carry_stalls[moving] = self._carry_stalls.get(moving, 0) + 1
@@ -382,11 +385,10 @@ class ArmAssemblyController:
       self._put_back()
 
   def _no_mate_left(self, moving):
-    """Every mate and twist of the held part has failed with this grasp. Dropping it where
-    it hung and taking it the same way again looped until the episode ended (Sawyer,
-    kids_white tuning seed 7: 30 times). Instead it is set back down and taken with the
-    other grasp, its failed mates forgotten; with both grasps spent, the other parts go
-    first until the next connection."""
+    """Every mate and twist of the held part has failed with this grasp. Dropped where it
+    hung and taken the same way again, it looped 30 times (Sawyer, kids_white tuning
+    seed 7). It is set down and taken with the other grasp, its failed mates forgotten;
+    with both grasps spent, the other parts go first until the next connection."""
     self._stalled_grasps.add((moving, self._grasp_sign))
     if (moving, -self._grasp_sign) in self._stalled_grasps:
       self._unreachable.add(moving)

@@ -221,12 +221,12 @@ class Unwinder:
     return action
 
 
-def joint_margins(robot, physics, arm):
-  """Per-joint distance (rad) of an arm's joints to the limits its IK keeps them in."""
+def pinned(robot, physics, arm, within=0.02):
+  """True when a joint of the arm is within `within` rad of a limit its IK keeps it in."""
   low, high = robot.ik.limits
   index = robot.ik.qpos_index[robot.ik_joint_indices(arm)]
   q = robot.arm_qpos(physics)
-  return np.minimum(q[index] - low[index], high[index] - q[index])
+  return np.minimum(q[index] - low[index], high[index] - q[index]).min() < within
 
 
 class ProgressWatch:

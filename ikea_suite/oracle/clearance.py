@@ -63,6 +63,23 @@ class AssemblyClearance:
     self._rise_from = None
     return np.array([goal[0], goal[1], max(goal[2], safe)])
 
+  def reachable_carry(self, goal, rot, top, part, part_pos, part_rot, clearance=0.03,
+                      step=0.02):
+    """The carry height (tool z) over the tool goal `goal`: `top`, or lower until the arm
+    reaches it with its tool at `rot` (IK miss under 1 cm), but not so low that `part`,
+    held as it will sit at (part_pos, part_rot), passes under `clearance` over the
+    assembly. Half a metre over the table, a box's far wall lay 0.77 m out, beyond the
+    Jaco's reach, and the carry stalled there until the episode ended (tuning seed 0)."""
+    task, robot, physics = self._env.task, self._robot, self._env.physics
+    corners = (geometry.box_corners(*task.furniture.spec.parts[part].bounds) @ part_rot.T
+               + part_pos)
+    lowest = max(goal[2], self.assembly_top() + clearance + goal[2] - corners[:, 2].min())
+    z = top
+    while z > lowest and robot.reach_check(physics, self._arm, np.array(
+        [goal[0], goal[1], z]), rot)[0] > 0.01:
+      z -= step
+    return max(z, lowest)
+
   def arc_waypoint(self, goal):
     """A point on an arc around the base towards `goal`: carrying never sweeps across the base."""
     base, base_rot = self._robot.base_pose
