@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import ikea_suite
+from ikea_suite.tasks import arm_placement
 
 
 def _part_yaws_and_distances(env):
@@ -91,3 +92,50 @@ def test_parts_lie_within_the_sector_the_arm_declares(robot):
   bearings = np.abs(bearings)
   assert bearings.max() <= sector + 1e-6
   assert bearings.max() > 0.6 * sector   # the sector is used, not a narrower one
+
+
+@pytest.mark.parametrize("furniture, scale", [("bookcase_shelf_unit_w60_h80_open", 0.24),
+                                              ("bookcase_shelf_unit_w60_h80_open", 0.5),
+                                              ("table_four_leg_lack", 0.5)])
+def test_the_root_lies_with_its_open_connectors_facing_up(furniture, scale):
+  # A bookcase side lies flat on the face away from its shelves; a table top upside down.
+  # Its shelves' slots had been averaged along the side's own height axis, to nothing,
+  # and the side lay shelf face down at random (at scale 0.24 always).
+  env = ikea_suite.load(furniture, "panda", seed=0, scale=scale)
+  table, root = env.task.furniture.connectors, env.task.root_part
+  for _ in range(2):
+    env.reset()
+    positions, rotations = env.task.furniture.part_poses(env.physics)
+    connectors, _ = table.world_frames(positions, rotations)
+    mine = table.part == root
+    assert (connectors[mine, 2] > positions[root, 2]).all()
+
+
+
+def _root_connector_distances(env):
+  table, root = env.task.furniture.connectors, env.task.root_part
+  base, _ = env.task.robot.base_pose
+  positions, rotations = env.task.furniture.part_poses(env.physics)
+  connectors, _ = table.world_frames(positions, rotations)
+  return np.linalg.norm(connectors[table.part == root][:, :2] - base[:2], axis=1)
+
+
+def test_a_long_root_lies_across_the_reach_when_along_it_would_be_too_far():
+  # Along the radius, a trestle desk's far trestle slot lay 0.76 m out, at the edge of the
+  # Panda's reach; across it, both slots lie 0.58 m out.
+  env = ikea_suite.load("desk_trestle_w120_white", "panda", seed=0, scale=0.5)
+  env.reset()
+  distances = _root_connector_distances(env)
+  assert distances.max() < arm_placement.ROOT_FAR * env.task.robot.REACH
+  assert np.ptp(distances) < 0.05
+
+
+@pytest.mark.parametrize("furniture, robot", [("table_four_leg_w90_birch", "panda"),
+                                              ("table_four_leg_w120_white", "sawyer")])
+def test_a_root_within_reach_or_as_far_turned_lies_along_the_radius(furniture, robot):
+  # The 90 cm top's far legs lie within 0.9 of the Panda's reach; the 120 cm top's lie
+  # beyond it for the Sawyer, but across the radius its corners would be only 9 cm nearer.
+  env = ikea_suite.load(furniture, robot, seed=0, scale=0.5)
+  env.reset()
+  distances = _root_connector_distances(env)
+  assert np.ptp(distances) > 0.3   # its legs' slots from near to far

@@ -30,17 +30,28 @@ from ikea_suite.tasks import placement
 from ikea_suite.tasks import planner
 
 _FLIP = np.diag([1.0, -1.0, -1.0])   # half a turn about the world x axis
+# A root whose farthest connector would lie beyond ROOT_FAR of the arm's reach, lying
+# along the radius from the base, lies across it if that brings the farthest connector
+# at least ROOT_GAIN (m) nearer: a trestle desk's far trestle slot, 0.76 m out, was at
+# the edge of the Panda's reach (0.58 m across). A long table top's corner legs are
+# about as far either way (0.09 m nearer for a 120 cm top, which the Sawyer completed
+# on 17 of 20 fresh seeds lying along the radius and on 14 of 20 across it).
+ROOT_FAR, ROOT_GAIN = 0.9, 0.1
 
 
-def mates_from_below(spec, table, root):
-  """Whether, in the assembled furniture, the root's mates lie mostly below its connectors."""
+def mates_from_below(spec, table, root, rest):
+  """Whether, in the assembled furniture, the root's mates lie mostly below its connectors,
+  the root lying at `rest` (part to world rotation). Heights count along the part axis
+  `rest` stands up: along its own z, a bookcase side's shelves (all on one face) averaged
+  to nothing, and the side was laid with that face down at random."""
   by_name = spec.parts
+  up = rest.T @ np.array([0.0, 0.0, 1.0])
   heights = []
   for a, b in zip(table.pair_a, table.pair_b):
     for mine, other in ((a, b), (b, a)):
       if table.part[mine] == root and table.part[other] != root:
         local = by_name[root].rot.T @ (by_name[table.part[other]].pos - by_name[root].pos)
-        heights.append(local[2] - table.local_pos[mine][2])
+        heights.append(up @ (local - table.local_pos[mine]))
   return bool(heights) and float(np.mean(heights)) < 0
 
 
@@ -87,7 +98,8 @@ class ReachableParts(placement.PartInitializer):
     spec = furniture.spec
     self._root = planner.root_part(spec)
     rest = placement.resting_rotation(spec.parts[self._root].bounds)
-    self._root_rest = _FLIP @ rest if mates_from_below(spec, furniture.connectors, self._root) else rest
+    rest = _FLIP @ rest if mates_from_below(spec, furniture.connectors, self._root, rest) else rest
+    self._root_rest = self._across_if_far(spec, furniture.connectors, rest, reach)
     # Any yaw of the lying root fits within the disc of its half-diagonal.
     root_radius = np.linalg.norm(np.ptp(
         geometry.box_corners(*spec.parts[self._root].bounds) @ self._root_rest.T, axis=0)[:2]) / 2
@@ -97,6 +109,26 @@ class ReachableParts(placement.PartInitializer):
           f"across) does not fit on the work table ({2 * min(support.half_size):.2f} m); "
           f"use a smaller scale")
     self._racked = panel_placement.RackedPanels(spec, self._root, self._root_rest)
+
+  def _across_if_far(self, spec, table, rest, reach):
+    """The root's resting rotation `rest`, turned a quarter turn about the vertical when,
+    lying as `rest` has it (its yaw unjittered), a connector of it would lie beyond ROOT_FAR
+    of `reach` from the base and the turn brings the farthest one ROOT_GAIN nearer."""
+    local = table.local_pos[table.part == self._root]
+    corners = geometry.box_corners(*spec.parts[self._root].bounds)
+
+    def farthest(rotation):   # in the heading's frame, the root centred as __call__ places it
+      lying = corners @ rotation.T
+      centre = (lying[:, :2].max(0) + lying[:, :2].min(0)) / 2
+      distance = max(self._inner + np.linalg.norm(lying[:, :2] - centre, axis=1).max(),
+                     self._root_distance)
+      return np.linalg.norm((local @ rotation.T)[:, :2] - centre + [distance, 0.0], axis=1).max()
+
+    turned = geometry.rot_z(np.pi / 2) @ rest
+    far = farthest(rest) if local.size else 0.0
+    if far > ROOT_FAR * reach and farthest(turned) < far - ROOT_GAIN:
+      return turned
+    return rest
 
   @property
   def fixtures(self):
