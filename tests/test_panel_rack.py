@@ -202,13 +202,11 @@ def test_jaco_carries_a_far_wall_as_high_as_it_reaches_and_completes_the_box():
   route = expert._clearance
   original = route.reachable_carry
 
-  def watched(goal, rot, top, part, part_pos, part_rot):
-    height = original(goal, rot, top, part, part_pos, part_rot)
-    corners = (geometry.box_corners(*env.task.furniture.spec.parts[part].bounds)
-               @ part_rot.T + part_pos)
+  def watched(goal, rot, top, floor):
+    height = original(goal, rot, top, floor)
     lowered.append((robot.reach_check(env.physics, 0, np.array([*goal[:2], top]), rot)[0],
                     robot.reach_check(env.physics, 0, np.array([*goal[:2], height]), rot)[0],
-                    height - top, height - (goal[2] - corners[:, 2].min()) - route.assembly_top()))
+                    height - top, height - floor))
     return height
 
   route.reachable_carry = watched
@@ -216,6 +214,24 @@ def test_jaco_carries_a_far_wall_as_high_as_it_reaches_and_completes_the_box():
     timestep = env.step(expert(timestep))
   assert env.task.state.complete
   assert lowered
-  for miss_high, miss_lowered, drop, clear in lowered:
+  for miss_high, miss_lowered, drop, above_floor in lowered:
     assert miss_high > 0.01 and miss_lowered < 0.01 and drop < 0   # reached, lower down
-    assert clear >= 0.03 - 1e-9   # the held wall still passes 3 cm over the box
+    assert above_floor >= 0.0   # the held wall still passes clear over the box
+
+
+def test_panda_stands_both_trestles_before_the_stretcher_and_assembles_the_desk():
+  # The stretcher, joined to the first trestle before the second stood, left the second
+  # to go in over it: held by its foot, it struck the first and was dropped.
+  env = ikea_suite.load("desk_trestle_w100_birch", "panda", scale=0.5, seed=0)
+  names = [part.name for part in env.task.furniture.spec.parts]
+  expert = experts.make_expert(env)
+  timestep = env.reset()
+  expert.reset()
+  order, joined = [], 0
+  while not timestep.last() and not env.task.state.complete:
+    timestep = env.step(expert(timestep))
+    if len(env.task.state.connections) > joined:
+      joined = len(env.task.state.connections)
+      order.append(names[expert.job[1]])
+  assert env.task.state.complete
+  assert order[-1] == "stretcher" and sorted(order[:2]) == ["trestle0", "trestle1"]

@@ -113,9 +113,8 @@ class ArmAssemblyController:
     return self.phase == Phase.REACH and self._counter == 1
 
   def take_over(self):
-    """Starts afresh from the present assembly, e.g. after another arm made connections.
-    The grasps it stalled on stay avoided until a connection is made: forgotten, the
-    arm retried the same stalled grasp a dozen times (Baxter, tuning seed 3)."""
+    """Starts afresh from the present assembly (another arm made connections), still
+    avoiding the grasps it stalled on: the Baxter retried one a dozen times (seed 3)."""
     connections = len(self._env.task.state.connections)
     stalled = self._stalled_grasps if connections == self._connections else set()
     self.reset()
@@ -154,9 +153,8 @@ class ArmAssemblyController:
       grip = (part_rot.T @ (point - part_pos), part_rot.T @ rot)
       plan = mating.plan_mating(self._env, self._arm, moving, self._approach,
                                 self._failed_plans, grip)
-      # A grasp the last wrist joint cannot turn to stalls the reach before any mating.
-      # The other grasp first after this one stalled: the IK's local minimum (e.g. the
-      # Panda's last joint at its limit) tends to be met again from the same pose.
+      # A grasp the last wrist joint cannot turn to stalls the reach; after a stall the other
+      # grasp goes first (the Panda's last joint met its limit again from the same pose).
       score = mating.reach_cost(self._robot, physics, self._arm,
                                 point + [0.0, 0.0, self._hover], rot) + (
           10.0 if plan is None else plan[0]) + 5.0 * ((moving, sign) in self._stalled_grasps)
@@ -249,7 +247,7 @@ class ArmAssemblyController:
         self._plan, self._carrying = mating.plan_mating(
             env, arm, moving, self._approach, self._failed_plans), True
         self._carry_watch.reset()
-        self._carry_top = self._surface + self._carry
+        self._carry_top = None
         if self._plan is not None:
           self._plan = self._plan[1:]
           self._root_at_plan = targets.part_pose(physics, task.furniture, task.root_part)[0]
@@ -277,6 +275,9 @@ class ArmAssemblyController:
       offset = self._approach if phase == Phase.ALIGN else 0.4 * task.thresholds.distance
       goal = mating.tool_goal_for_part(env, arm, moving, part_pos + offset * side, part_rot)
       if self._carrying:   # first over the goal at carry height, then down to it
+        floor = self._clearance.carry_floor(goal[0], moving, part_pos + offset * side, part_rot)
+        if self._carry_top is None:   # a panel hanging from its edge passes over the assembly
+          self._carry_top = max(self._surface + self._carry, floor if self._hanging else 0.0)
         high = goal[0] + [0.0, 0.0, max(0.0, self._carry_top - goal[0][2])]
         # Turning slowly keeps a held part from swinging out of the fingers.
         poses[:] = self._servo(robot, physics, arm, self._clearance.arc_waypoint(high), goal[1],
@@ -289,14 +290,12 @@ class ArmAssemblyController:
           if arm_motion.pinned(robot, physics, arm):
             self._carry_stalled(moving, pair, twist)
           else:   # out of reach up there? Lower, clear of the assembly.
-            top = self._clearance.reachable_carry(
-                goal[0], goal[1], self._carry_top, moving, part_pos + offset * side, part_rot)
+            top = self._clearance.reachable_carry(goal[0], goal[1], self._carry_top, floor)
             if top < self._carry_top - 0.01:
               self._carry_top = top
               self._carry_watch.reset()
         return action
-      # Closing the last centimetres slowly keeps the arm from hunting about the goal
-      # (measured at scale 0.5: +-1 cm oscillation at gain 0.6, the 5 mm gate never met).
+      # The last centimetres slowly: at gain 0.6 the arm hunted +-1 cm about the goal.
       poses[:] = self._servo(robot, physics, arm, *goal, gain=0.6 if phase == Phase.ALIGN else 0.3,
                              max_speed=HANGING_SPEED if self._hanging else 1.0)
       current, rot = targets.part_pose(physics, task.furniture, moving)

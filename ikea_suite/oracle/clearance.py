@@ -63,22 +63,24 @@ class AssemblyClearance:
     self._rise_from = None
     return np.array([goal[0], goal[1], max(goal[2], safe)])
 
-  def reachable_carry(self, goal, rot, top, part, part_pos, part_rot, clearance=0.03,
-                      step=0.02):
+  def carry_floor(self, goal, part, part_pos, part_rot, clearance=0.03):
+    """Lowest tool height (m) over the tool goal `goal` at which `part`, held as it will sit
+    at (part_pos, part_rot), passes `clearance` over the assembly."""
+    corners = (geometry.box_corners(*self._env.task.furniture.spec.parts[part].bounds)
+               @ part_rot.T + part_pos)
+    return self.assembly_top() + clearance + goal[2] - corners[:, 2].min()
+
+  def reachable_carry(self, goal, rot, top, floor, step=0.02):
     """The carry height (tool z) over the tool goal `goal`: `top`, or lower until the arm
-    reaches it with its tool at `rot` (IK miss under 1 cm), but not so low that `part`,
-    held as it will sit at (part_pos, part_rot), passes under `clearance` over the
-    assembly. Half a metre over the table, a box's far wall lay 0.77 m out, beyond the
-    Jaco's reach, and the carry stalled there until the episode ended (tuning seed 0)."""
-    task, robot, physics = self._env.task, self._robot, self._env.physics
-    corners = (geometry.box_corners(*task.furniture.spec.parts[part].bounds) @ part_rot.T
-               + part_pos)
-    lowest = max(goal[2], self.assembly_top() + clearance + goal[2] - corners[:, 2].min())
+    reaches it with its tool at `rot` (IK miss under 1 cm), but not below `floor`
+    (carry_floor). Half a metre over the table, a box's far wall lay 0.77 m out, beyond
+    the Jaco's reach, and the carry stalled there until the episode ended (tuning seed 0)."""
+    robot, physics = self._robot, self._env.physics
     z = top
-    while z > lowest and robot.reach_check(physics, self._arm, np.array(
+    while z > floor and robot.reach_check(physics, self._arm, np.array(
         [goal[0], goal[1], z]), rot)[0] > 0.01:
       z -= step
-    return max(z, lowest)
+    return max(z, floor)
 
   def arc_waypoint(self, goal):
     """A point on an arc around the base towards `goal`: carrying never sweeps across the base."""

@@ -8,12 +8,20 @@ from ikea_suite.tasks import planner
 def nearest_open_job(task, physics, base_pos, skip=()):
   """(connector pair, moving part) of the open pair joining the root's group whose fixed
   connector, and then whose loose part, is nearest the arm's base; None when no part is
-  left (parts in `skip` are passed over: the arm could not reach or hold them)."""
+  left (parts in `skip` are passed over: the arm could not reach or hold them). Mates on
+  the root itself go first: a trestle desk's stretcher, joined to the first trestle
+  before the second stood, left the second to go in over it, held high by its foot.
+  Panels from the rack go to the mate farthest from the rack first, so that none is
+  carried over another already standing (a trestle hung from the fingers struck the one
+  before it), and the panel nearest that mate leaves first, so that none is carried past
+  another still in the rack (a trestle 0.25 m wide knocked the next one out)."""
   table, state = task.furniture.connectors, task.state
   groups = state.group_labels()
   root_group = groups[task.root_part]
   positions, rotations = task.furniture.part_poses(physics)
   cpos, _ = table.world_frames(positions, rotations)
+  loose = [p for p in task.initializer.racked_parts if groups[p] != root_group]
+  rack = positions[loose, :2].mean(axis=0) if loose else None
   best = None
   for pair in np.flatnonzero(planner.open_pairs(table, state)):
     a, b = table.pair_a[pair], table.pair_b[pair]
@@ -22,8 +30,14 @@ def nearest_open_job(task, physics, base_pos, skip=()):
         continue
       if table.part[moving] in skip:
         continue
-      distance = (np.linalg.norm(cpos[fixed][:2] - base_pos[:2])
-                  + np.linalg.norm(positions[table.part[moving]][:2] - base_pos[:2]))
-      if best is None or distance < best[0]:
-        best = (distance, int(pair), int(table.part[moving]))
+      here = positions[table.part[moving]][:2]
+      if table.part[moving] in loose:
+        key = (table.part[fixed] != task.root_part,
+               -round(float(np.linalg.norm(cpos[fixed][:2] - rack)), 2),   # 1 cm ties
+               np.linalg.norm(here - cpos[fixed][:2]))
+      else:
+        key = (table.part[fixed] != task.root_part, 0.0,
+               np.linalg.norm(cpos[fixed][:2] - base_pos[:2]) + np.linalg.norm(here - base_pos[:2]))
+      if best is None or key < best[0]:
+        best = (key, int(pair), int(table.part[moving]))
   return None if best is None else best[1:]

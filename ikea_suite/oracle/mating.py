@@ -88,6 +88,8 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None):
   groups = state.group_labels()
   base_pos, _ = robot.base_pose
   part_xy = task.furniture.part_poses(physics)[0][moving][:2]
+  # Mates nearby first; from the rack, the farthest first (see jobs.nearest_open_job).
+  nearby = -0.3 if moving in task.initializer.racked_parts else 0.3
   centre, _ = targets.assembly_circle(physics, task.furniture, task.root_part)
   best = None
   for pair in np.flatnonzero(planner.open_pairs(table, state)):
@@ -109,7 +111,7 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None):
       # it and drags the assembly along: come in from outside.
       inward = max(0.0, np.linalg.norm(goal_pos[:2] - centre) - np.linalg.norm(wrist[:2] - centre))
       score = (reach_cost(robot, physics, arm, goal_pos, goal_rot) + 2.0 * cramped
-               + 2.0 * inward + 0.3 * np.linalg.norm(goal_pos[:2] - part_xy)   # mates nearby
+               + 2.0 * inward + nearby * np.linalg.norm(goal_pos[:2] - part_xy)
                + 5.0 * (off_design(env, moving, part_pos, part_rot, pair)
                         > task.thresholds.distance))
       if best is None or score < best[0]:
