@@ -2,19 +2,17 @@
 
 Filled from benchmarks/expert_sweep.py on seeds the experts were never tuned
 on: a pair is listed when at least 80% of its episodes completed the
-furniture over 20 seeds, 11000-11019 (--seed-start 11000 and 11010, --seeds
-10), with the code of 2026-11-26, eighth session: the floor's hard contact
-impedance (physics_settings.SUPPORT_SOLIMP), the experts as in the seventh
-session. A Baxter pair also needs both arms in at least 16 of its complete
-episodes. The Jaco: no stool or table reaches 80%; its seven boxes do (below). The Panda's boxes and bench, whose
-walls, ends and stretcher stand in the panel rack (tasks/panel_placement.py),
-were measured with the code of the ninth session on 40 other fresh seeds each:
-the boxes on 15000-15019 and 16000-16019, the benches, trestle desks and tables
-on 17000-17019 and 18000-18019 (--seeds 20), and are listed at 80% of those 40;
-its stools and tables, and the boxes, run exactly as before with the final code
-(episodes replayed step for step). The tables are in the README ("Expert
-sweep"). The scale is the one the robot assembles that furniture at (its
-WORK_SCALE; per-model work scales below it, none of which is listed).
+furniture over 20 seeds. Stools and four-leg tables: 11000-11019 (--seed-start
+11000 and 11010, --seeds 10), with the code of 2026-11-26, eighth session (the
+floor's hard contact impedance, physics_settings.SUPPORT_SOLIMP); they have no
+racked part and every mate on the root, and replay step for step with the
+present code (but for one Sawyer episode, still complete). A Baxter pair also
+needs both arms in at least 16 of its complete episodes. Furniture with parts in
+the panel rack (tasks/panel_placement.py: the boxes, benches and desk) was
+measured with the code of the tenth session on 22000-22019, the Jaco's boxes on
+21000-21019 and 22000-22019 (listed at 80% of each). The tables are in the README ("Expert sweep"). The scale is the one the
+robot assembles that furniture at (its WORK_SCALE; per-model work scales below
+it, none of which is listed).
 """
 
 # robot -> {furniture: scale}
@@ -30,14 +28,20 @@ SUPPORTED = {
                "table_four_leg_w120_white": 0.5,  # 17/20
                "table_four_leg_w75_black": 0.5},  # 20/20 (the Lack, the bar table, pine,
                                                   # white_tall 15/20; w90 14/20)
-    "panda": {"bench_plank_white_short": 0.5,     # 36/40 (17000-17019, 18000-18019)
-              "box_divided_birch": 0.5,           # 37/40 (15000-15019, 16000-16019)
-              "box_open_kuggis": 0.5,             # 40/40
-              "box_open_large_birch": 0.5,        # 37/40
-              "box_open_shoe_dark": 0.5,          # 40/40
-              "box_open_small_white": 0.5,        # 38/40
-              "box_open_tall_black": 0.5,         # 37/40
-              "stool_round_four_leg": 0.5,        # 17/20
+    # The Panda's boxes, benches and desk: 22000-22019, the tenth session's code.
+    "panda": {"bench_plank_dark_low": 0.5,        # 18/20
+              "bench_plank_oak_long": 0.5,        # 19/20
+              "bench_plank_pine": 0.5,            # 16/20
+              "bench_plank_white_short": 0.5,     # 18/20
+              "box_divided_birch": 0.5,           # 20/20
+              "box_divided_white_long": 0.5,      # 19/20
+              "box_open_kuggis": 0.5,             # 20/20
+              "box_open_large_birch": 0.5,        # 17/20
+              "box_open_shoe_dark": 0.5,          # 19/20
+              "box_open_small_white": 0.5,        # 19/20
+              "box_open_tall_black": 0.5,         # 19/20
+              "desk_trestle_w100_birch": 0.5,     # 16/20
+              "stool_round_four_leg": 0.5,        # 17/20 (11000-11019)
               "stool_round_frosta": 0.5,          # 17/20
               "stool_round_low_white": 0.5,       # 17/20
               "table_four_leg_kids_white": 0.5,   # 17/20
@@ -45,8 +49,8 @@ SUPPORTED = {
               "table_four_leg_side_oak": 0.5,     # 18/20
               "table_four_leg_w75_black": 0.5,    # 17/20
               "table_four_leg_w90_birch": 0.5},   # 17/20 (stool_round_bar_birch: 15/20;
-                                                  # box_divided_white_long 31/40,
-                                                  # bench_plank_pine 30/40)
+                                                  # desk_trestle_w120_white 7/20, trestle
+                                                  # tables 0-6/20, w140_dark 5/20)
     "baxter": {"stool_round_bar_birch": 0.5,      # 18/20, both arms in all 18
                "stool_round_four_leg": 0.5,       # 16/20, both arms in all 16
                "stool_round_frosta": 0.5,         # 18/20, both arms in 17
