@@ -10,9 +10,9 @@ present code (but for one Sawyer episode, still complete). A Baxter pair also
 needs both arms in at least 16 of its complete episodes. Furniture with parts in
 the panel rack (tasks/panel_placement.py: the boxes, benches and desk) was
 measured with the code of the tenth session on 22000-22019, the Jaco's boxes on
-21000-21019 and 22000-22019 (listed at 80% of each). The tables are in the README ("Expert sweep"). The scale is the one the
-robot assembles that furniture at (its WORK_SCALE; per-model work scales below
-it, none of which is listed).
+21000-21019 and 22000-22019 (listed at 80% of each). The tables are in the
+README ("Expert sweep"). The scale is the one the robot assembles that furniture
+at (its WORK_SCALE; per-model work scales below it, none of which is listed).
 """
 
 # robot -> {furniture: scale}
