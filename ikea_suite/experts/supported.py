@@ -8,9 +8,11 @@ floor's hard contact impedance, physics_settings.SUPPORT_SOLIMP); they have no
 racked part and every mate on the root, and replay step for step with the
 present code (but for one Sawyer episode, still complete). A Baxter pair also
 needs both arms in at least 16 of its complete episodes. Furniture with parts in
-the panel rack (tasks/panel_placement.py: the boxes, benches and desk) was
-measured with the code of the tenth session on 22000-22019, the Jaco's boxes on
-21000-21019 and 22000-22019 (listed at 80% of each). The tables are in the
+the panel rack (tasks/panel_placement.py: the boxes and benches) was measured
+with the code of the tenth session on 22000-22019 (they replay step for step
+with the final code), the trestle desks and table with the final code on
+23000-23019, the Jaco's boxes on 21000-21019 and 22000-22019 (listed at 80% of
+each). The tables are in the
 README ("Expert sweep"). The scale is the one the robot assembles that furniture
 at (its WORK_SCALE; per-model work scales below it, none of which is listed).
 """
@@ -28,7 +30,7 @@ SUPPORTED = {
                "table_four_leg_w120_white": 0.5,  # 17/20
                "table_four_leg_w75_black": 0.5},  # 20/20 (the Lack, the bar table, pine,
                                                   # white_tall 15/20; w90 14/20)
-    # The Panda's boxes, benches and desk: 22000-22019, the tenth session's code.
+    # The Panda's boxes and benches: 22000-22019, the tenth session's code.
     "panda": {"bench_plank_dark_low": 0.5,        # 18/20
               "bench_plank_oak_long": 0.5,        # 19/20
               "bench_plank_pine": 0.5,            # 16/20
@@ -40,7 +42,8 @@ SUPPORTED = {
               "box_open_shoe_dark": 0.5,          # 19/20
               "box_open_small_white": 0.5,        # 19/20
               "box_open_tall_black": 0.5,         # 19/20
-              "desk_trestle_w100_birch": 0.5,     # 16/20
+              "desk_trestle_w100_birch": 0.5,     # 18/20 (23000-23019, the final code)
+              "desk_trestle_w120_white": 0.5,     # 16/20 (23000-23019)
               "stool_round_four_leg": 0.5,        # 17/20 (11000-11019)
               "stool_round_frosta": 0.5,          # 17/20
               "stool_round_low_white": 0.5,       # 17/20
@@ -48,9 +51,9 @@ SUPPORTED = {
               "table_four_leg_lack": 0.5,         # 17/20
               "table_four_leg_side_oak": 0.5,     # 18/20
               "table_four_leg_w75_black": 0.5,    # 17/20
-              "table_four_leg_w90_birch": 0.5},   # 17/20 (stool_round_bar_birch: 15/20;
-                                                  # desk_trestle_w120_white 7/20, trestle
-                                                  # tables 0-6/20, w140_dark 5/20)
+              "table_four_leg_w90_birch": 0.5,    # 17/20 (stool_round_bar_birch: 15/20)
+              "table_trestle_l120_white": 0.5},   # 16/20 (23000-23019; l140_oak 9/20,
+                                                  # l160 3/20, l180 0/20, w140_dark 5/20)
     "baxter": {"stool_round_bar_birch": 0.5,      # 18/20, both arms in all 18
                "stool_round_four_leg": 0.5,       # 16/20, both arms in all 16
                "stool_round_frosta": 0.5,         # 18/20, both arms in 17

@@ -279,21 +279,21 @@ class ArmAssemblyController:
         if self._carry_top is None:   # a panel hanging from its edge passes over the assembly
           self._carry_top = max(self._surface + self._carry, floor if self._hanging else 0.0)
         high = goal[0] + [0.0, 0.0, max(0.0, self._carry_top - goal[0][2])]
-        # Turning slowly keeps a held part from swinging out of the fingers.
         poses[:] = self._servo(robot, physics, arm, self._clearance.arc_waypoint(high), goal[1],
-                                          max_turn=0.3)
+                               max_turn=0.3)   # turning slowly, a held part does not swing out
         distance, angle = arm_motion.pose_error(robot, physics, arm, high, goal[1])
         self._carrying = not (distance < 0.03 and angle < 0.05)
         if not self._carrying:
           self._carry_watch.reset()   # on to the goal below
-        elif self._carry_watch.stalled(distance, angle):
-          if arm_motion.pinned(robot, physics, arm):
+        elif self._carry_watch.stalled(distance, angle):   # out of reach up there?
+          nominal, pinned = self._surface + self._carry, arm_motion.pinned(robot, physics, arm)
+          top = nominal if self._carry_top > nominal else self._carry_top if pinned else (
+              self._clearance.reachable_carry(goal[0], goal[1], self._carry_top, floor))
+          if top < self._carry_top - 0.01:   # a raised carry as usual; else lower, clear of it
+            self._carry_top = top
+            self._carry_watch.reset()
+          elif pinned:
             self._carry_stalled(moving, pair, twist)
-          else:   # out of reach up there? Lower, clear of the assembly.
-            top = self._clearance.reachable_carry(goal[0], goal[1], self._carry_top, floor)
-            if top < self._carry_top - 0.01:
-              self._carry_top = top
-              self._carry_watch.reset()
         return action
       # The last centimetres slowly: at gain 0.6 the arm hunted +-1 cm about the goal.
       poses[:] = self._servo(robot, physics, arm, *goal, gain=0.6 if phase == Phase.ALIGN else 0.3,
