@@ -250,7 +250,7 @@ def test_a_raised_carry_out_of_reach_goes_back_to_the_usual_height_and_the_desk_
   heights = []
   while not timestep.last() and not env.task.state.complete:
     timestep = env.step(expert(timestep))
-    top = getattr(expert, "_carry_top", None)   # set once the first carry is planned
+    top = expert._carry_height.top   # chosen at the first step of each carry
     if expert.phase == arm_controller.Phase.ALIGN and top is not None:
       heights.append(top)
   assert env.task.state.complete

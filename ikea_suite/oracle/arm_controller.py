@@ -65,7 +65,7 @@ class ArmAssemblyController:
           f"ArmAssemblyController drives an arm by task-space moves, in control_mode "
           f"{' or '.join(map(repr, control_modes.DELTA_TARGETS))}, got {robot.control_mode!r}")
     self._env, self._robot, self._arm = env, robot, arm
-    self._hover, self._lift, self._carry, self._approach = hover, lift, carry, approach
+    self._hover, self._lift, self._approach = hover, lift, approach
     self._tolerance = tolerance
     # A hand slower than `close_steps` (the Jaco's, 1.2 s) gets its own closing time.
     close_steps = max(close_steps, int(np.ceil(
@@ -75,6 +75,7 @@ class ArmAssemblyController:
     # Carry and clearance heights count from the surface the parts lie on (floor or table top).
     self._surface = env.task.arena.support.height
     self._clearance = clearance.AssemblyClearance(env, arm, self._surface)
+    self._carry_height = clearance.CarryHeight(self._clearance, self._surface + carry)
     self._grasps = grasp_pose.TopDownGrasp(env, arm, self._surface, self._clearance)
     self._servo = arm_motion.PoseServo()
     self._unwinder = arm_motion.Unwinder()
@@ -247,7 +248,7 @@ class ArmAssemblyController:
         self._plan, self._carrying = mating.plan_mating(
             env, arm, moving, self._approach, self._failed_plans), True
         self._carry_watch.reset()
-        self._carry_top = None
+        self._carry_height.reset()
         if self._plan is not None:
           self._plan = self._plan[1:]
           self._root_at_plan = targets.part_pose(physics, task.furniture, task.root_part)[0]
@@ -275,10 +276,8 @@ class ArmAssemblyController:
       offset = self._approach if phase == Phase.ALIGN else 0.4 * task.thresholds.distance
       goal = mating.tool_goal_for_part(env, arm, moving, part_pos + offset * side, part_rot)
       if self._carrying:   # first over the goal at carry height, then down to it
-        floor = self._clearance.carry_floor(goal[0], moving, part_pos + offset * side, part_rot)
-        if self._carry_top is None:   # a panel hanging from its edge passes over the assembly
-          self._carry_top = max(self._surface + self._carry, floor if self._hanging else 0.0)
-        high = goal[0] + [0.0, 0.0, max(0.0, self._carry_top - goal[0][2])]
+        high = self._carry_height.waypoint(goal, moving, part_pos + offset * side, part_rot,
+                                           self._hanging)
         poses[:] = self._servo(robot, physics, arm, self._clearance.arc_waypoint(high), goal[1],
                                max_turn=0.3)   # turning slowly, a held part does not swing out
         distance, angle = arm_motion.pose_error(robot, physics, arm, high, goal[1])
@@ -286,11 +285,8 @@ class ArmAssemblyController:
         if not self._carrying:
           self._carry_watch.reset()   # on to the goal below
         elif self._carry_watch.stalled(distance, angle):   # out of reach up there?
-          nominal, pinned = self._surface + self._carry, arm_motion.pinned(robot, physics, arm)
-          top = nominal if self._carry_top > nominal else self._carry_top if pinned else (
-              self._clearance.reachable_carry(goal[0], goal[1], self._carry_top, floor))
-          if top < self._carry_top - 0.01:   # a raised carry as usual; else lower, clear of it
-            self._carry_top = top
+          pinned = arm_motion.pinned(robot, physics, arm)
+          if self._carry_height.lower(goal, pinned):
             self._carry_watch.reset()
           elif pinned:
             self._carry_stalled(moving, pair, twist)

@@ -87,3 +87,41 @@ class AssemblyClearance:
     base, base_rot = self._robot.base_pose
     pos, _ = self._robot.tcp_pose(self._env.physics, self._arm)
     return arm_motion.arc_waypoint(base, pos, goal, heading=np.arctan2(base_rot[1, 0], base_rot[0, 0]))
+
+
+class CarryHeight:
+  """The tool height a held part is carried at over its goal, chosen afresh for each plan.
+
+  It is `nominal`, or for a panel hanging from its top edge at least high enough to pass
+  3 cm over the assembly (`route.carry_floor`: a trestle held by its foot struck the one
+  standing before it). After a stall (`lower`) it comes down within the arm's reach.
+  """
+
+  def __init__(self, route, nominal):
+    self._route, self._nominal = route, nominal
+    self.top = None   # chosen at the first step of a plan's carry
+    self._floor = None
+
+  def reset(self):
+    """For the next plan."""
+    self.top = None
+
+  def waypoint(self, goal, part, part_pos, part_rot, hanging):
+    """The point over the tool goal `goal` (position, rotation) the carry makes for, with
+    `part` held as it will sit at (part_pos, part_rot)."""
+    self._floor = self._route.carry_floor(goal[0], part, part_pos, part_rot)
+    if self.top is None:
+      self.top = max(self._nominal, self._floor if hanging else 0.0)
+    return goal[0] + [0.0, 0.0, max(0.0, self.top - goal[0][2])]
+
+  def lower(self, goal, pinned):
+    """After a stall: a raised carry goes back to `nominal` (out of the Panda's reach over
+    a trestle table, the raised carry stalled until time ran out); otherwise, unless a
+    joint is `pinned` (the caller replans then), down to what the arm reaches, not
+    below the floor (`route.reachable_carry`). True when the height came down."""
+    top = self._nominal if self.top > self._nominal else self.top if pinned else (
+        self._route.reachable_carry(goal[0], goal[1], self.top, self._floor))
+    if top < self.top - 0.01:
+      self.top = top
+      return True
+    return False
