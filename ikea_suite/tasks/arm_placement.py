@@ -99,7 +99,7 @@ class ReachableParts(placement.PartInitializer):
     self._root = planner.root_part(spec)
     rest = placement.resting_rotation(spec.parts[self._root].bounds)
     rest = _FLIP @ rest if mates_from_below(spec, furniture.connectors, self._root, rest) else rest
-    self._root_rest = self._across_if_far(spec, furniture.connectors, rest, reach)
+    self._root_rest = self._across_if_far(furniture.connectors, rest, reach)
     # Any yaw of the lying root fits within the disc of its half-diagonal.
     root_radius = np.linalg.norm(np.ptp(
         geometry.box_corners(*spec.parts[self._root].bounds) @ self._root_rest.T, axis=0)[:2]) / 2
@@ -110,19 +110,16 @@ class ReachableParts(placement.PartInitializer):
           f"use a smaller scale")
     self._racked = panel_placement.RackedPanels(spec, self._root, self._root_rest)
 
-  def _across_if_far(self, spec, table, rest, reach):
+  def _across_if_far(self, table, rest, reach):
     """The root's resting rotation `rest`, turned a quarter turn about the vertical when,
     lying as `rest` has it (its yaw unjittered), a connector of it would lie beyond ROOT_FAR
     of `reach` from the base and the turn brings the farthest one ROOT_GAIN nearer."""
     local = table.local_pos[table.part == self._root]
-    corners = geometry.box_corners(*spec.parts[self._root].bounds)
 
     def farthest(rotation):   # in the heading's frame, the root centred as __call__ places it
-      lying = corners @ rotation.T
-      centre = (lying[:, :2].max(0) + lying[:, :2].min(0)) / 2
-      distance = max(self._inner + np.linalg.norm(lying[:, :2] - centre, axis=1).max(),
-                     self._root_distance)
-      return np.linalg.norm((local @ rotation.T)[:, :2] - centre + [distance, 0.0], axis=1).max()
+      _, centre, radius = self._item_footprint([(self._root, rotation, np.zeros(3))], np.eye(3))
+      out = [self._root_out(radius), 0.0]
+      return np.linalg.norm((local @ rotation.T)[:, :2] - centre + out, axis=1).max()
 
     turned = geometry.rot_z(np.pi / 2) @ rest
     far = farthest(rest) if local.size else 0.0
@@ -150,6 +147,10 @@ class ReachableParts(placement.PartInitializer):
     """Connector pairs (indices into the furniture's table) placed mated this episode."""
     return self._groups.preassembled_pairs
 
+  def _root_out(self, radius):
+    """How far (m) from the base the root's centre lies, its footprint `radius` across."""
+    return max(self._inner + radius, self._root_distance)
+
   def _item_footprint(self, item, yaw_rot):
     """World-aligned corners, centre and radius of a group of (part, rot, pos) turned by yaw_rot."""
     corners = np.concatenate([geometry.box_corners(*self._furniture.spec.parts[i].bounds)
@@ -176,7 +177,7 @@ class ReachableParts(placement.PartInitializer):
     yaw_rot = geometry.rot_z(self._heading + random_state.uniform(-yaw_jitter, yaw_jitter))
     _, _, radius = self._item_footprint(root_item, yaw_rot)
     forward = np.array([np.cos(self._heading), np.sin(self._heading)])
-    distance = max(self._inner + radius, self._root_distance)
+    distance = self._root_out(radius)
     xy = self._base_xy + forward * distance + random_state.uniform(-offset, offset, 2)
     while not self._support.contains(xy, radius):   # a wide root: out along the table
       distance += 0.02
