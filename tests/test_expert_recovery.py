@@ -174,7 +174,12 @@ def test_a_leg_with_another_part_beside_its_middle_is_taken_where_the_fingers_la
   along_x = geometry.mat_to_quat(geometry.axis_angle_to_mat([0.0, np.pi / 2, 0.0]))
   along_y = geometry.mat_to_quat(geometry.axis_angle_to_mat([np.pi / 2, 0.0, 0.0]))
   centre = base + [0.6, -0.3, radius + 0.001]   # the nearest leg: the expert's first job
+  root = env.task.root_part
+  root_pos, root_rot = (x[root] for x in furniture.part_poses(physics))
   with physics.reset_context():
+    # reset_context puts every body back at its model pose: the top, too, would lie there,
+    # right way up and half in the floor, and every leg's mate under it.
+    furniture.set_part_pose(physics, root, root_pos, geometry.mat_to_quat(root_rot))
     furniture.set_part_pose(physics, moving, centre, along_x)
     furniture.set_part_pose(physics, blocker, centre - [0.0, radius + 0.004 + half, 0.0], along_y)
     for k, spot in zip(others, ([0.35, 0.75], [0.75, 0.4])):

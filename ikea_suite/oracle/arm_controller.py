@@ -20,6 +20,7 @@ from ikea_suite.oracle import jobs
 from ikea_suite.oracle import mating
 from ikea_suite.oracle import sensing
 from ikea_suite.oracle import targets
+from ikea_suite.oracle import turn_over
 from ikea_suite.robots import control_modes
 
 # The open fingers go down to a part slowly: at full speed the hand swings sideways by
@@ -52,6 +53,7 @@ class Phase(enum.Enum):
   RETREAT = "retreat"   # back off before the next part
   PUT_BACK = "put_back"   # set a part down where it was taken, to take it another way
   UNWIND = "unwind"     # back to the home joint configuration along a joint-space path
+  TURN_OVER = "turn_over"   # roll the assembly onto its other face (turn_over.TurnOver)
 
 
 class ArmAssemblyController:
@@ -82,11 +84,13 @@ class ArmAssemblyController:
     self._carry_watch = arm_motion.ProgressWatch(window=80)
     self._uneven = None   # the hand closes one finger against two (_against_pair)
     self._hold_command = arm_motion.hold_command(robot.arms[arm].gripper, HOLD_SHORT_OF_CLOSED)
+    self._turn_over = turn_over.TurnOver(env, arm, self._surface, self._clearance, close_steps)
     self.reset()
 
   def reset(self):
     self._servo.reset()
     self._clearance.reset()
+    self._turn_over.reset()
     self.phase = Phase.REACH
     self._counter = 0
     self._connections = 0
@@ -144,25 +148,6 @@ class ArmAssemblyController:
       self._uneven = arm_motion.closes_against_pair(self._robot, self._env.physics, self._arm)
     return self._uneven
 
-  def _choose_grasp_sign(self, moving):
-    """Which of the two symmetric grasps the wrist reaches best and leaves the easier mating."""
-    physics, furniture = self._env.physics, self._env.task.furniture
-    part_pos, part_rot = targets.part_pose(physics, furniture, moving)
-    best = None
-    for sign in (1.0, -1.0):
-      point, rot = self._grasp_pose(moving, sign)
-      grip = (part_rot.T @ (point - part_pos), part_rot.T @ rot)
-      plan = mating.plan_mating(self._env, self._arm, moving, self._approach,
-                                self._failed_plans, grip)
-      # A grasp the last wrist joint cannot turn to stalls the reach; after a stall the other
-      # grasp goes first (the Panda's last joint met its limit again from the same pose).
-      score = mating.reach_cost(self._robot, physics, self._arm,
-                                point + [0.0, 0.0, self._hover], rot) + (
-          10.0 if plan is None else plan[0]) + 5.0 * ((moving, sign) in self._stalled_grasps)
-      if best is None or score < best[0]:
-        best = (score, sign)
-    return best[1]
-
   def _holding(self, part):
     return sensing.holding(self._env.physics, self._robot, self._arm,
                            self._env.task.furniture, part)
@@ -180,7 +165,8 @@ class ArmAssemblyController:
       self.phase, self._counter, self._stalled = Phase.RELEASE, 0, 0
       self._unreachable, self._failed_plans, self._stalled_grasps = set(), set(), set()
       self._carry_stalls = {}
-    if self._job is None or self.phase == Phase.REACH and self._counter == 0:
+    if (self._job is None and self.phase != Phase.TURN_OVER
+        or self.phase == Phase.REACH and self._counter == 0):
       self._job = self._choose_job()
       if self._job is None and self._unreachable and not task.state.complete:
         self._unreachable = set()   # every part skipped once: try them all again
@@ -188,8 +174,14 @@ class ArmAssemblyController:
       self._counter, self._stalled = 1, 0
       self._grasps.new_reach()
       if self._job is not None:
-        self._grasp_sign = self._choose_grasp_sign(self._job[1])
-    if self._job is None and self.phase not in (Phase.RELEASE, Phase.RETREAT, Phase.UNWIND):
+        self._grasp_sign = mating.choose_grasp_sign(
+            env, arm, self._job[1], self._grasp_pose, self._hover, self._approach,
+            self._failed_plans, self._stalled_grasps)
+      elif turn_over.waiting(task, physics, self._surface) and self._turn_over.start(
+          self.closing_local()):
+        self.phase = Phase.TURN_OVER
+    if self._job is None and self.phase not in (Phase.RELEASE, Phase.RETREAT, Phase.UNWIND,
+                                                Phase.TURN_OVER):
       return action
     pair, moving = self._job if self._job else (None, None)
     phase = self.phase
@@ -340,6 +332,10 @@ class ArmAssemblyController:
           self._grasp[0])), self._grasp[1])
       self._counter += 1
       if arm_motion.pose_error(robot, physics, arm, *self._grasp)[0] < 0.03 or self._counter > 40:
+        self._to_next_reach()
+    elif phase == Phase.TURN_OVER:
+      poses[:], action[grip] = self._turn_over(self._servo), self._turn_over.gripper()
+      if self._turn_over.step == turn_over.Step.DONE:
         self._to_next_reach()
     elif phase == Phase.UNWIND:
       poses[:] = self._unwinder(robot, physics, arm)

@@ -221,6 +221,24 @@ class Unwinder:
     return action
 
 
+def hand_below_tool(robot, physics, arm, rot):
+  """How far (m) the hand (every collision geom fixed to the tool) reaches below the tool
+  centre with the tool turned to world rotation `rot`: pointing sideways, the Panda's last
+  link struck the floor with the tool centre 8.5 cm above it."""
+  model, data = physics.model, physics.data
+  site = physics.bind(robot.arms[arm].gripper.tcp_site).element_id
+  tcp, tcp_rot = data.site_xpos[site], data.site_xmat[site].reshape(3, 3)
+  rigid = model.body_weldid[model.site_bodyid[site]]
+  lowest = 0.0
+  for geom in np.flatnonzero(model.body_weldid[model.geom_bodyid] == rigid):
+    if not (model.geom_contype[geom] or model.geom_conaffinity[geom]):
+      continue
+    geom_rot = rot @ tcp_rot.T @ data.geom_xmat[geom].reshape(3, 3)   # as the tool turns
+    centre = rot @ tcp_rot.T @ (data.geom_xpos[geom] - tcp) + geom_rot @ model.geom_aabb[geom, :3]
+    lowest = min(lowest, centre[2] - np.abs(geom_rot[2]) @ model.geom_aabb[geom, 3:])
+  return -lowest
+
+
 def pinned(robot, physics, arm, within=0.02):
   """True when a joint of the arm is within `within` rad of a limit its IK keeps it in."""
   low, high = robot.ik.limits

@@ -2,6 +2,7 @@
 
 import numpy as np
 
+from ikea_suite.oracle import turn_over
 from ikea_suite.tasks import planner
 
 
@@ -14,7 +15,9 @@ def nearest_open_job(task, physics, base_pos, skip=()):
   Panels from the rack go to the mate farthest from the rack first, so that none is
   carried over another already standing (a trestle hung from the fingers struck the one
   before it), and the panel nearest that mate leaves first, so that none is carried past
-  another still in the rack (a trestle 0.25 m wide knocked the next one out)."""
+  another still in the rack (a trestle 0.25 m wide knocked the next one out). A mate
+  whose part would sit in the surface waits for the assembly to be turned over
+  (turn_over.under_support: a chair's back, under its upside-down seat)."""
   table, state = task.furniture.connectors, task.state
   groups = state.group_labels()
   root_group = groups[task.root_part]
@@ -28,7 +31,8 @@ def nearest_open_job(task, physics, base_pos, skip=()):
     for fixed, moving in ((a, b), (b, a)):
       if groups[table.part[fixed]] != root_group or groups[table.part[moving]] == root_group:
         continue
-      if table.part[moving] in skip:
+      if table.part[moving] in skip or turn_over.under_support(
+          physics, task.furniture, pair, table.part[moving], task.arena.support.height):
         continue
       here = positions[table.part[moving]][:2]
       if table.part[moving] in loose:

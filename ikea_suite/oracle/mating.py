@@ -117,3 +117,24 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None):
       if best is None or score < best[0]:
         best = (score, int(pair), float(twist))
   return best
+
+
+def choose_grasp_sign(env, arm, moving, grasp_pose, hover, approach, failed_plans=(),
+                      stalled_grasps=()):
+  """Which of the two symmetric top-down grasps of `moving` (grasp_pose(part, sign) -> tool
+  pose) the wrist reaches best, `hover` m above it, and leaves the easier mating; a
+  (part, sign) in `stalled_grasps` goes last."""
+  physics, furniture, robot = env.physics, env.task.furniture, env.task.robot
+  part_pos, part_rot = targets.part_pose(physics, furniture, moving)
+  best = None
+  for sign in (1.0, -1.0):
+    point, rot = grasp_pose(moving, sign)
+    grip = (part_rot.T @ (point - part_pos), part_rot.T @ rot)
+    plan = plan_mating(env, arm, moving, approach, failed_plans, grip)
+    # A grasp the last wrist joint cannot turn to stalls the reach; after a stall the other
+    # grasp goes first (the Panda's last joint met its limit again from the same pose).
+    score = reach_cost(robot, physics, arm, point + [0.0, 0.0, hover], rot) + (
+        10.0 if plan is None else plan[0]) + 5.0 * ((moving, sign) in stalled_grasps)
+    if best is None or score < best[0]:
+      best = (score, sign)
+  return best[1]

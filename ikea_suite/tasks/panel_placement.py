@@ -25,6 +25,11 @@ MIN_HEIGHT = 0.035
 # fingers close only within 1.5 mm of a panel's edge, which the Panda, stretched to its
 # 0.8 m reach, did not attain (fresh seeds 14005 and 14010: every box failed there).
 RACK_SPARE = 0.1
+# A panel that hangs this far (m) below the root lying as placed (a chair's back under
+# its upside-down seat) goes in once the expert has turned the assembly over
+# (oracle/turn_over.py), so it stands in the rack the way up it will then have.
+UNDER = 0.01
+TURNED_OVER = np.diag([1.0, -1.0, -1.0])   # half a turn about x
 
 
 def is_panel(extents):
@@ -36,9 +41,15 @@ def is_panel(extents):
 
 def upright_panels(spec, root, root_rest):
   """[(part, rotation)] of the parts to rack: each panel's world rotation in the furniture
-  assembled onto the root lying at `root_rest` (3, 3), turned about z so that its
-  thickness lies along x (the rack's row)."""
+  assembled onto the root lying at `root_rest` (3, 3) (turned over, for a panel under
+  the root), turned about z so that its thickness lies along x (the rack's row)."""
   design_to_world = root_rest @ spec.parts[root].rot.T
+
+  def lowest(part):
+    return ((geometry.box_corners(*part.bounds) @ part.rot.T + part.pos) @ design_to_world.T)[
+        :, 2].min()
+
+  root_bottom = lowest(spec.parts[root])
   out = []
   for index, part in enumerate(spec.parts):
     extents = part.bounds[1] - part.bounds[0]
@@ -46,6 +57,8 @@ def upright_panels(spec, root, root_rest):
     if index == root or not is_panel(extents):
       continue
     rot = design_to_world @ part.rot
+    if lowest(part) < root_bottom - UNDER:   # goes in once the assembly is turned over
+      rot = TURNED_OVER @ rot
     normal = rot[:, order[0]]
     if abs(normal[2]) > 0.5:   # lies flat when assembled
       continue

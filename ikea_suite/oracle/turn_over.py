@@ -1,0 +1,295 @@
+"""Turning the assembly over, for furniture whose root has mates on both faces.
+
+A chair's seat lies upside down for its legs to go in from above; its back
+slot then faces the floor. A mate whose part would sit below the surface
+waits (`under_support`), and once only such mates are left, one arm turns
+the assembly over (`TurnOver`): it takes a standing leg from the side, at
+the height of the seat, lifts the assembly clear, rolls it half a turn about
+the hand's own axis (the arm's last joint), sets it down on its legs and
+lets go. Everything goes through the same task-space actions a learning
+agent sends; privileged state only says where the parts are.
+"""
+
+import enum
+
+import numpy as np
+
+from ikea_suite import geometry
+from ikea_suite.oracle import arm_motion
+from ikea_suite.oracle import sensing
+from ikea_suite.oracle import targets
+from ikea_suite.tasks import planner
+
+# A part mated this far (m) or more below the surface would sit in it: its mate waits.
+BELOW = 0.01
+# The hand takes the handle this far (m) above the top of the root (the fingers reach
+# past the leg over the seat), and holds this far (m) off the surface
+# the lowest point of the assembly as it rolls, and as it is let go onto its legs.
+OVER_SEAT, ROLL_CLEARANCE, DROP = 0.03, 0.04, 0.01
+# The hand, pointing sideways, passes this far (m) over the surface.
+HAND_CLEARANCE = 0.015
+# Weight (per m of distance from the base) of the waiting mates' place once turned over.
+NEAR_SLOTS = 1.0
+# The hand comes in along its axis from this far (m) out, and leaves the same way.
+STANDOFF = 0.12
+# Rad the hand rolls per control step (about 20 degrees a second at 20 Hz).
+ROLL_STEP = 0.02
+
+
+def _twist(table, pair):
+  valid = table.twist_angles[pair][table.twist_valid[pair]]
+  return 0.0 if table.any_twist[pair] or not len(valid) else float(valid[0])
+
+
+def under_support(physics, furniture, pair, moving, surface):
+  """Whether `moving`, mated at the pair onto the assembly as it lies, would reach BELOW
+  or more into the surface (a chair's back under its upside-down seat)."""
+  pos, rot, _ = targets.mated_part_pose(physics, furniture, pair, moving,
+                                        _twist(furniture.connectors, pair))
+  corners = geometry.box_corners(*furniture.spec.parts[moving].bounds) @ rot.T + pos
+  return bool(corners[:, 2].min() < surface - BELOW)
+
+
+def group_corners(physics, furniture, parts):
+  """World corners (n, 3) of the parts' collision boxes."""
+  out = []
+  for part in parts:
+    pos, rot = targets.part_pose(physics, furniture, part)
+    out.append(geometry.box_corners(*furniture.spec.parts[part].bounds) @ rot.T + pos)
+  return np.concatenate(out)
+
+
+def waiting(task, physics, surface):
+  """Connectors of the root's group whose open mates wait for the assembly to be turned
+  over (their parts would sit in the surface)."""
+  table, labels = task.furniture.connectors, task.state.group_labels()
+  root = labels[task.root_part]
+  out = []
+  for pair in np.flatnonzero(planner.open_pairs(table, task.state)):
+    a, b = table.pair_a[pair], table.pair_b[pair]
+    if (labels[table.part[a]] == root) != (labels[table.part[b]] == root):
+      fixed, moving = (a, b) if labels[table.part[a]] == root else (b, a)
+      if under_support(physics, task.furniture, pair, table.part[moving], surface):
+        out.append(int(fixed))
+  return out
+
+
+def handles(physics, furniture, parts, root):
+  """[(part, approach, closing)]: each standing rod of the group other than the root (a
+  leg), taken from outside the assembly along one of its side faces' normals
+  (`approach`, unit, horizontal), the fingers closing across it (`closing`, either way)."""
+  centre = group_corners(physics, furniture, parts)[:, :2].mean(axis=0)
+  out = []
+  for part in parts:
+    if part == root:
+      continue
+    pos, rot = targets.part_pose(physics, furniture, part)
+    lo, hi = furniture.spec.parts[part].bounds
+    order = np.argsort(hi - lo)
+    if abs(rot[2, order[2]]) < 0.95 or (hi - lo)[order[1]] > 0.3 * (hi - lo)[order[2]]:
+      continue   # not a rod standing on end
+    for axis in order[:2]:
+      for sign in (1.0, -1.0):
+        approach = sign * rot[:, axis]
+        approach = approach - approach[2] * np.array([0.0, 0.0, 1.0])
+        approach /= np.linalg.norm(approach)
+        if approach[:2] @ (centre - pos[:2]) <= 0.0:   # from inside the assembly
+          continue
+        closing = np.cross([0.0, 0.0, 1.0], approach)
+        out += [(part, approach, closing), (part, approach, -closing)]   # either finger first
+  return out
+
+
+class Step(enum.Enum):
+  OVER = "over"         # over the standoff, clear of the assembly, the hand pointing sideways
+  STANDOFF = "standoff"  # level with the grasp, STANDOFF out along the approach
+  IN = "in"             # along the approach to the handle
+  CLOSE = "close"       # squeeze
+  LIFT = "lift"         # up until the assembly rolls clear of the surface
+  ROLL = "roll"         # half a turn about the approach axis
+  LOWER = "lower"       # down until the legs are DROP above the surface
+  OPEN = "open"         # let go
+  OUT = "out"           # back along the approach
+  UP = "up"             # up clear of the assembly: unwinding from low beside the chair
+                        # just stood up, the arm knocked it over (tuning seed 3)
+  DONE = "done"
+
+
+class TurnOver:
+  """One arm's turn-over of the root's group: call `start`, then each control step
+  `__call__` for the tool goal; `step` says where it is, `failed` whether it gave up.
+
+  Args:
+    env: the environment.
+    arm: the arm's index.
+    surface: height (m) of the surface the assembly stands on.
+    route: the arm's clearance.AssemblyClearance (the way over the assembly to the handle).
+    close_steps: control steps the fingers take to close.
+  """
+
+  def __init__(self, env, arm, surface, route, close_steps=8, open_steps=6, step_budget=250):
+    self._env, self._arm, self._surface, self._route = env, arm, surface, route
+    self._close_steps, self._open_steps, self._budget = close_steps, open_steps, step_budget
+    self.reset()
+
+  def reset(self):
+    """Forgets the episode's turn-overs."""
+    self.step, self.failed = Step.DONE, False
+    self._failed_handles = set()   # (part, approach) that slipped or stalled, this episode
+
+  def _group(self):
+    task = self._env.task
+    labels = task.state.group_labels()
+    return [p for p in range(len(task.furniture.parts)) if labels[p] == labels[task.root_part]]
+
+  def _plan(self, part, approach, closing):
+    """(grasp position, grasp rotation, lift height) for a handle, or None when the legs
+    are too short to hold above the rest of the assembly."""
+    physics, furniture = self._env.physics, self._env.task.furniture
+    pos, _ = targets.part_pose(physics, furniture, part)
+    rot = arm_motion.tool_rotation(approach, closing, self._closing_local)
+    handle_top = group_corners(physics, furniture, [part])[:, 2].max()
+    height = max(
+        group_corners(physics, furniture, [self._env.task.root_part])[:, 2].max() + OVER_SEAT,
+        self._surface + HAND_CLEARANCE + arm_motion.hand_below_tool(
+            self._env.task.robot, physics, self._arm, rot))
+    if height > handle_top - 0.02:
+      return None
+    point = np.array([pos[0], pos[1], height])
+    # Lifted by `lift`, every corner swings about the approach axis through the grasp
+    # point at most `reach` from it, and clears the surface by ROLL_CLEARANCE.
+    corners = group_corners(physics, furniture, self._group()) - point
+    across = corners - np.outer(corners @ approach, approach)
+    reach = np.linalg.norm(across, axis=1).max()
+    lift = max(0.0, self._surface + ROLL_CLEARANCE + reach - height)
+    return point, rot, lift
+
+  def start(self, closing_local):
+    """Chooses the handle and grasp the arm reaches best (grasp, lifted, half-rolled and
+    rolled poses), `closing_local` being the fingers' closing direction in the tool
+    frame; False when there is none."""
+    self._closing_local = closing_local
+    env, robot = self._env, self._env.task.robot
+    physics, task = env.physics, env.task
+    base, _ = robot.base_pose
+    cpos, _ = task.furniture.connectors.world_frames(*task.furniture.part_poses(physics))
+    slots = cpos[waiting(task, physics, self._surface)]
+    best = None
+    options = [h for h in handles(physics, task.furniture, self._group(), task.root_part)
+               if (h[0], tuple(np.round(h[1], 1))) not in self._failed_handles]
+    if not options:   # every one has failed once: try them all again
+      self._failed_handles = set()
+    for part, approach, closing in options or handles(physics, task.furniture, self._group(),
+                                                      task.root_part):
+      plan = self._plan(part, approach, closing)
+      if plan is None:
+        continue
+      point, rot, lift = plan
+      for sign in (1.0, -1.0):
+        up = point + [0.0, 0.0, lift]
+        poses = [(point - STANDOFF * approach, rot), (point, rot), (up, rot),
+                 (up, geometry.axis_angle_to_mat(sign * np.pi / 2 * approach) @ rot),
+                 (up, geometry.axis_angle_to_mat(sign * 0.95 * np.pi * approach) @ rot)]
+        # Turned over, the waiting mates (a chair's back slot) had best face the base:
+        # on the far side the arm reached over the seat with the back hanging from its
+        # fingers, and stalled (tuning seeds 0-5).
+        rolled = point + (slots - point) @ geometry.axis_angle_to_mat(np.pi * approach).T
+        cost = NEAR_SLOTS * np.linalg.norm(rolled[:, :2] - base[:2], axis=1).mean()
+        # A wrist folded in beside the base is cramped (as in mating.plan_mating).
+        wrist = point - 0.25 * approach
+        cost += 2.0 * max(0.0, 0.45 - np.linalg.norm(wrist[:2] - base[:2]))
+        for goal in poses:
+          miss, margin, _ = robot.reach_check(physics, self._arm, *goal)
+          cost += miss + np.maximum(0.0, 0.2 - margin).sum()
+        if best is None or cost < best[0]:
+          best = (cost, part, approach, point, rot, lift, sign)
+    if best is None:
+      self.failed = True
+      return False
+    _, self._part, self._approach, self._point, self._rot, self._lift, self._sign = best
+    self.step, self.failed, self._count, self._rolled = Step.OVER, False, 0, 0.0
+    return True
+
+  @property
+  def part(self):
+    """The leg the hand takes."""
+    return self._part
+
+  def gripper(self):
+    """+1 to close, -1 to open, for this step."""
+    return 1.0 if self.step in (Step.CLOSE, Step.LIFT, Step.ROLL, Step.LOWER) else -1.0
+
+  def _goal(self):
+    standoff = self._point - STANDOFF * self._approach
+    up = self._point + [0.0, 0.0, self._lift]
+    if self.step == Step.OVER:
+      return np.array([*standoff[:2], self._route.safe_height()]), self._rot
+    if self.step == Step.STANDOFF:
+      return standoff, self._rot
+    if self.step in (Step.IN, Step.CLOSE):
+      return self._point, self._rot
+    if self.step == Step.LIFT:
+      return up, self._rot
+    rolled = geometry.axis_angle_to_mat(self._sign * self._rolled * self._approach) @ self._rot
+    if self.step == Step.ROLL:
+      return up, rolled
+    tcp, _ = self._env.task.robot.tcp_pose(self._env.physics, self._arm)
+    if self.step == Step.LOWER:
+      lowest = group_corners(self._env.physics, self._env.task.furniture,
+                             self._group())[:, 2].min()
+      return tcp - [0.0, 0.0, lowest - self._surface - DROP], rolled
+    if self.step == Step.UP:
+      return np.array([*self._out[:2], self._route.safe_height()]), rolled
+    return self._out, rolled   # OPEN, OUT
+
+  def __call__(self, servo):
+    """The task-space action entries (6) for this control step, from `servo` (an
+    arm_motion.PoseServo); advances the steps."""
+    env, robot = self._env, self._env.task.robot
+    physics, arm = env.physics, self._arm
+    goal = self._goal()
+    slow = self.step in (Step.IN, Step.LOWER)
+    waypoint = (self._route.arc_waypoint(self._route.over_assembly(goal[0]))
+                if self.step == Step.OVER else goal[0])
+    action = servo(robot, physics, arm, waypoint, goal[1], gain=0.3 if slow else 1.0,
+                   max_turn=0.3 if self.step == Step.ROLL else 1.0,
+                   max_speed=0.3 if self.step in (Step.LIFT, Step.LOWER) else 1.0)
+    distance, angle = arm_motion.pose_error(robot, physics, arm, *goal)
+    self._count += 1
+    if self.step in (Step.LIFT, Step.ROLL, Step.LOWER) and not sensing.holding(
+        physics, robot, arm, env.task.furniture, self._part):   # it slipped: let go, out
+      self._give_up()
+      self.step, self._count = Step.OPEN, 0
+      self._set_out()
+      return action
+    near = distance < (0.005 if self.step in (Step.IN, Step.LOWER) else 0.02) and angle < 0.05
+    if self.step == Step.ROLL:
+      if angle < 0.1:
+        self._rolled = min(np.pi, self._rolled + ROLL_STEP)
+      near = self._rolled >= np.pi and angle < 0.05
+    if self.step in (Step.CLOSE, Step.OPEN):
+      near = self._count >= (self._close_steps if self.step == Step.CLOSE else self._open_steps)
+    if near:
+      self._next()
+    elif self._count > self._budget:
+      if self.step not in (Step.OPEN, Step.OUT, Step.UP):
+        self._give_up()
+      self.step = Step.DONE if self.step in (Step.OUT, Step.UP) else Step.OPEN
+      self._count = 0
+      self._set_out()
+    return action
+
+  def _give_up(self):
+    self._failed_handles.add((self._part, tuple(np.round(self._approach, 1))))
+    self.failed = True
+
+  def _set_out(self):
+    tcp, rot = self._env.task.robot.tcp_pose(self._env.physics, self._arm)
+    self._out = tcp - STANDOFF * rot[:, 2]
+
+  def _next(self):
+    order = list(Step)
+    self.step = order[order.index(self.step) + 1]
+    self._count = 0
+    if self.step == Step.OPEN:
+      self._set_out()

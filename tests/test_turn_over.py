@@ -1,0 +1,68 @@
+"""Turning the assembly over: a chair's legs go into its upside-down seat, then an arm
+rolls the chair onto its legs and its back goes in from above (oracle/turn_over.py)."""
+
+import numpy as np
+
+import ikea_suite
+from ikea_suite import experts
+from ikea_suite.oracle import arm_controller
+from ikea_suite.oracle import turn_over
+
+CHAIR = "chair_back_pine_high"
+
+
+def _env(seed=0):
+  env = ikea_suite.load(CHAIR, "panda", scale=0.5, seed=seed)
+  env.reset()
+  return env
+
+
+def _part(env, name):
+  return [p.name for p in env.task.furniture.spec.parts].index(name)
+
+
+def _connector(env, part_name):
+  table = env.task.furniture.connectors
+  return int(np.flatnonzero(table.part == _part(env, part_name))[0])
+
+
+def test_only_the_back_waits_for_the_seat_to_be_turned_over():
+  env = _env()
+  task, physics = env.task, env.physics
+  surface = task.arena.support.height
+  assert task.furniture.spec.parts[task.root_part].name == "seat"
+  table = task.furniture.connectors
+  waiting = []
+  for pair in range(len(table.pair_a)):
+    a, b = table.pair_a[pair], table.pair_b[pair]
+    moving = b if table.part[a] == task.root_part else a
+    if turn_over.under_support(physics, task.furniture, pair, table.part[moving], surface):
+      waiting.append(task.furniture.spec.parts[table.part[moving]].name)
+  assert waiting == ["back"]
+  assert [task.furniture.connectors.types[c] for c in turn_over.waiting(task, physics, surface)] == [
+      "seat_back_slot"]
+
+
+def test_the_back_stands_in_the_rack_the_way_up_it_goes_in_after_the_turn_over():
+  env = _env()
+  back = _part(env, "back")
+  assert back in env.task.initializer.racked_parts
+  positions, _ = env.task.furniture.part_poses(env.physics)
+  cpos, _ = env.task.furniture.connectors.world_frames(*env.task.furniture.part_poses(env.physics))
+  # Its bottom connector (where it meets the seat) is at its foot, not at its top edge.
+  assert cpos[_connector(env, "back")][2] < positions[back][2] - 0.05
+
+
+def test_panda_turns_the_chair_over_and_completes_it():
+  env = ikea_suite.load(CHAIR, "panda", scale=0.5, seed=1)   # expert_sweep's seed 1
+  expert = experts.make_expert(env)
+  timestep, phases = env.reset(), set()
+  expert.reset()
+  seat = env.task.root_part
+  while not timestep.last():
+    timestep = env.step(expert(timestep))
+    phases.add(expert.phase)
+  assert env.task.state.complete
+  assert arm_controller.Phase.TURN_OVER in phases
+  _, rotations = env.task.furniture.part_poses(env.physics)
+  assert rotations[seat][2, 2] > 0.99   # the seat lies right way up, on its legs
