@@ -27,14 +27,9 @@ class AssemblyClearance:
   def assembly_top(self):
     """Height of the highest corner of the parts joined to the root (or of the surface)."""
     task, physics = self._env.task, self._env.physics
-    positions, rotations = task.furniture.part_poses(physics)
     groups = task.state.group_labels()
-    top = self._surface
-    for part in np.flatnonzero(groups == groups[task.root_part]):
-      corners = (geometry.box_corners(*task.furniture.spec.parts[part].bounds)
-                 @ rotations[part].T + positions[part])
-      top = max(top, corners[:, 2].max())
-    return top
+    group = np.flatnonzero(groups == groups[task.root_part])
+    return max(self._surface, targets.parts_corners(physics, task.furniture, group)[:, 2].max())
 
   def safe_height(self, clearance=0.08):
     """Tool height at which the open fingers pass `clearance` over the assembly."""

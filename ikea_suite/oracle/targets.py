@@ -68,6 +68,13 @@ def mated_part_pose(physics, furniture, pair, moving, twist):
   return pos, rot, side / max(np.linalg.norm(side), 1e-6)
 
 
+def parts_corners(physics, furniture, parts):
+  """World corners (8 per part, stacked) of the parts' collision bounds as they lie now."""
+  positions, rotations = furniture.part_poses(physics)
+  return np.concatenate([geometry.box_corners(*furniture.spec.parts[p].bounds) @ rotations[p].T
+                         + positions[p] for p in parts])
+
+
 def part_radius(furniture, part):
   """Radius of a sphere about the part's origin that holds all its collision geometry."""
   lo, hi = furniture.spec.parts[part].bounds

@@ -50,15 +50,6 @@ def under_support(physics, furniture, pair, moving, surface):
   return bool(corners[:, 2].min() < surface - BELOW)
 
 
-def group_corners(physics, furniture, parts):
-  """World corners (n, 3) of the parts' collision boxes."""
-  out = []
-  for part in parts:
-    pos, rot = targets.part_pose(physics, furniture, part)
-    out.append(geometry.box_corners(*furniture.spec.parts[part].bounds) @ rot.T + pos)
-  return np.concatenate(out)
-
-
 def waiting(task, physics, surface):
   """Connectors of the root's group whose open mates wait for the assembly to be turned
   over (their parts would sit in the surface)."""
@@ -78,7 +69,7 @@ def handles(physics, furniture, parts, root):
   """[(part, approach, closing)]: each standing rod of the group other than the root (a
   leg), taken from outside the assembly along one of its side faces' normals
   (`approach`, unit, horizontal), the fingers closing across it (`closing`, either way)."""
-  centre = group_corners(physics, furniture, parts)[:, :2].mean(axis=0)
+  centre = targets.parts_corners(physics, furniture, parts)[:, :2].mean(axis=0)
   out = []
   for part in parts:
     if part == root:
@@ -148,9 +139,9 @@ class TurnOver:
     physics, furniture = self._env.physics, self._env.task.furniture
     pos, _ = targets.part_pose(physics, furniture, part)
     rot = arm_motion.tool_rotation(approach, closing, self._closing_local)
-    handle_top = group_corners(physics, furniture, [part])[:, 2].max()
+    handle_top = targets.parts_corners(physics, furniture, [part])[:, 2].max()
     height = max(
-        group_corners(physics, furniture, [self._env.task.root_part])[:, 2].max() + OVER_SEAT,
+        targets.parts_corners(physics, furniture, [self._env.task.root_part])[:, 2].max() + OVER_SEAT,
         self._surface + HAND_CLEARANCE + arm_motion.hand_below_tool(
             self._env.task.robot, physics, self._arm, rot))
     if height > handle_top - 0.02:
@@ -158,7 +149,7 @@ class TurnOver:
     point = np.array([pos[0], pos[1], height])
     # Lifted by `lift`, every corner swings about the approach axis through the grasp
     # point at most `reach` from it, and clears the surface by ROLL_CLEARANCE.
-    corners = group_corners(physics, furniture, self._group()) - point
+    corners = targets.parts_corners(physics, furniture, self._group()) - point
     across = corners - np.outer(corners @ approach, approach)
     reach = np.linalg.norm(across, axis=1).max()
     lift = max(0.0, self._surface + ROLL_CLEARANCE + reach - height)
@@ -175,12 +166,11 @@ class TurnOver:
     cpos, _ = task.furniture.connectors.world_frames(*task.furniture.part_poses(physics))
     slots = cpos[waiting(task, physics, self._surface)]
     best = None
-    options = [h for h in handles(physics, task.furniture, self._group(), task.root_part)
-               if (h[0], tuple(np.round(h[1], 1))) not in self._failed_handles]
+    every = handles(physics, task.furniture, self._group(), task.root_part)
+    options = [h for h in every if (h[0], tuple(np.round(h[1], 1))) not in self._failed_handles]
     if not options:   # every one has failed once: try them all again
-      self._failed_handles = set()
-    for part, approach, closing in options or handles(physics, task.furniture, self._group(),
-                                                      task.root_part):
+      self._failed_handles, options = set(), every
+    for part, approach, closing in options:
       plan = self._plan(part, approach, closing)
       if plan is None:
         continue
@@ -235,7 +225,7 @@ class TurnOver:
       return up, rolled
     tcp, _ = self._env.task.robot.tcp_pose(self._env.physics, self._arm)
     if self.step == Step.LOWER:
-      lowest = group_corners(self._env.physics, self._env.task.furniture,
+      lowest = targets.parts_corners(self._env.physics, self._env.task.furniture,
                              self._group())[:, 2].min()
       return tcp - [0.0, 0.0, lowest - self._surface - DROP], rolled
     if self.step == Step.UP:

@@ -46,8 +46,7 @@ def upright_panels(spec, root, root_rest):
   design_to_world = root_rest @ spec.parts[root].rot.T
 
   def lowest(part):
-    return ((geometry.box_corners(*part.bounds) @ part.rot.T + part.pos) @ design_to_world.T)[
-        :, 2].min()
+    return (part.assembled_corners() @ design_to_world.T)[:, 2].min()
 
   root_bottom = lowest(spec.parts[root])
   out = []
