@@ -4,8 +4,10 @@ rolls the chair onto its legs and its back goes in from above (oracle/turn_over.
 import numpy as np
 
 import ikea_suite
+from ikea_suite import geometry
 from ikea_suite import experts
 from ikea_suite.oracle import arm_controller
+from ikea_suite.oracle import targets
 from ikea_suite.oracle import turn_over
 
 CHAIR = "chair_back_pine_high"
@@ -66,3 +68,26 @@ def test_panda_turns_the_chair_over_and_completes_it():
   assert arm_controller.Phase.TURN_OVER in phases
   _, rotations = env.task.furniture.part_poses(env.physics)
   assert rotations[seat][2, 2] > 0.99   # the seat lies right way up, on its legs
+
+
+def test_a_part_put_back_from_the_assembly_is_lifted_off_it_first():
+  # Dragged sideways off the seat, a chair's back knocked the turned chair over.
+  env = _env(seed=1)
+  expert = experts.make_expert(env)
+  physics, furniture = env.physics, env.task.furniture
+  leg = _part(env, "leg0")
+  seat_pos, _ = targets.part_pose(physics, furniture, env.task.root_part)
+  expert._job, expert._grasp = (0, leg), expert._grasp_pose(leg)
+  lengths = []
+  for on_seat in (False, True):
+    if on_seat:   # lying across the upturned seat
+      _, rot = targets.part_pose(physics, furniture, leg)
+      furniture.set_part_pose(physics, leg, [seat_pos[0], seat_pos[1], seat_pos[2] + 0.03],
+                              geometry.mat_to_quat(rot))
+      for _ in range(200):
+        physics.step()
+    expert._put_back()
+    lengths.append(len(expert._put_back_path))
+  tcp, _ = env.task.robot.tcp_pose(physics, 0)
+  assert lengths == [3, 4]
+  np.testing.assert_allclose(expert._put_back_path[0], tcp + [0.0, 0.0, 0.05])

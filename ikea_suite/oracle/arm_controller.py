@@ -299,14 +299,11 @@ class ArmAssemblyController:
         self._plan = None
         action[-1] = 1.0
     elif phase == Phase.PUT_BACK:
-      # Over the spot it was taken from at the height it stalled at, down, and let go.
-      if not self._holding(moving):
+      if not self._holding(moving):   # along the path _put_back laid
         self._to_next_reach()
         return action
-      spot, rot = self._grasp
-      goal = [spot + [0.0, 0.0, z] for z in (self._put_back_height, self._lift, 0.008)][
-          self._counter]
-      lowering = self._counter == 2
+      goal, rot = self._put_back_path[self._counter], self._grasp[1]
+      lowering = self._counter == len(self._put_back_path) - 1
       waypoint = goal if lowering else self._clearance.arc_waypoint(goal)
       poses[:] = self._servo(robot, physics, arm, waypoint, rot, max_turn=0.3,
                              gain=DESCEND_GAIN if lowering else 1.0)
@@ -314,7 +311,7 @@ class ArmAssemblyController:
       self._stalled += 1
       if distance < (0.01 if lowering else 0.03) and angle < 0.05:
         self._counter += 1
-      if self._counter == 3 or self._stalled > 2 * self._stall_steps:   # the way round is long
+      if self._counter == len(self._put_back_path) or self._stalled > 2 * self._stall_steps:
         self.phase, self._counter = Phase.RELEASE, 0
     elif phase == Phase.RELEASE:
       self._counter += 1
@@ -387,6 +384,14 @@ class ArmAssemblyController:
     self._put_back()
 
   def _put_back(self):
+    """Over the spot the part was taken from at the height it stalled at (the way round is
+    long: 2 * stall_steps), down, and let go; first straight up off the assembly if the
+    part rests on it (a chair's back, dragged off the seat, knocked the chair over)."""
     tcp, _ = self._robot.tcp_pose(self._env.physics, self._arm)
-    self._put_back_height = tcp[2] - self._grasp[0][2]
+    task, spot = self._env.task, self._grasp[0]
+    labels = task.state.group_labels()
+    self._put_back_path = [spot + [0.0, 0.0, z] for z in (tcp[2] - spot[2], self._lift, 0.008)]
+    if sensing.touching(self._env.physics, task.furniture, self._job[1],
+                        np.flatnonzero(labels == labels[task.root_part])):
+      self._put_back_path.insert(0, tcp + [0.0, 0.0, 0.05])
     self.phase, self._counter = Phase.PUT_BACK, 0

@@ -27,3 +27,14 @@ def attachable(task, physics, pair, tolerance):
   return bool(scores.distance[pair] < tolerance * t.distance
               and scores.up_cos[pair] > 1 - tolerance * (1 - t.up_cos)
               and scores.forward_cos[pair] > 1 - tolerance * (1 - t.forward_cos))
+
+
+def touching(physics, furniture, part, others):
+  """Whether `part` is in contact with any of the parts `others` (indices)."""
+  model, data = physics.model, physics.data
+  mine, theirs = furniture.body_ids[part], set(int(furniture.body_ids[p]) for p in others)
+  for contact in data.contact[:data.ncon]:
+    bodies = {int(model.geom_bodyid[contact.geom1]), int(model.geom_bodyid[contact.geom2])}
+    if mine in bodies and bodies & theirs - {mine}:
+      return True
+  return False

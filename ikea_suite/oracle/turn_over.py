@@ -28,8 +28,9 @@ BELOW = 0.01
 OVER_SEAT, ROLL_CLEARANCE, DROP = 0.03, 0.04, 0.01
 # The hand, pointing sideways, passes this far (m) over the surface.
 HAND_CLEARANCE = 0.015
-# Weight (per m of distance from the base) of the waiting mates' place once turned over.
-NEAR_SLOTS = 1.0
+# Weight (per m) of the waiting mates' distance from the base, once turned over, away
+# from that of the assembly's centre before.
+SLOT_OUT = 2.0
 # The hand comes in along its axis from this far (m) out, and leaves the same way.
 STANDOFF = 0.12
 # Rad the hand rolls per control step (about 20 degrees a second at 20 Hz).
@@ -94,7 +95,8 @@ def handles(physics, furniture, parts, root):
 class Step(enum.Enum):
   OVER = "over"         # over the standoff, clear of the assembly, the hand pointing sideways
   STANDOFF = "standoff"  # level with the grasp, STANDOFF out along the approach
-  IN = "in"             # along the approach to the handle
+  IN = "in"             # along the approach to the handle, slowly: at full speed the hand
+                        # swung 7 degrees and pushed the chair 2.4 cm (tuning seed 4)
   CLOSE = "close"       # squeeze
   LIFT = "lift"         # up until the assembly rolls clear of the surface
   ROLL = "roll"         # half a turn about the approach axis
@@ -165,6 +167,7 @@ class TurnOver:
     base, _ = robot.base_pose
     cpos, _ = task.furniture.connectors.world_frames(*task.furniture.part_poses(physics))
     slots = cpos[waiting(task, physics, self._surface)]
+    centre = targets.parts_corners(physics, task.furniture, self._group()).mean(axis=0)
     best = None
     every = handles(physics, task.furniture, self._group(), task.root_part)
     options = [h for h in every if (h[0], tuple(np.round(h[1], 1))) not in self._failed_handles]
@@ -180,11 +183,13 @@ class TurnOver:
         poses = [(point - STANDOFF * approach, rot), (point, rot), (up, rot),
                  (up, geometry.axis_angle_to_mat(sign * np.pi / 2 * approach) @ rot),
                  (up, geometry.axis_angle_to_mat(sign * 0.95 * np.pi * approach) @ rot)]
-        # Turned over, the waiting mates (a chair's back slot) had best face the base:
-        # on the far side the arm reached over the seat with the back hanging from its
-        # fingers, and stalled (tuning seeds 0-5).
+        # Turned over, the waiting mates (a chair's back slot) had best lie as far from
+        # the base as the assembly's centre does now, where the root was placed for the
+        # arm: rolled in to 0.27-0.32 m of the base, the back's carry stalled with the
+        # elbow at its limit; on the far side of the seat, with the wrist at its limit.
         rolled = point + (slots - point) @ geometry.axis_angle_to_mat(np.pi * approach).T
-        cost = NEAR_SLOTS * np.linalg.norm(rolled[:, :2] - base[:2], axis=1).mean()
+        cost = SLOT_OUT * np.abs(np.linalg.norm(rolled[:, :2] - base[:2], axis=1)
+                                 - np.linalg.norm(centre[:2] - base[:2])).mean()
         # A wrist folded in beside the base is cramped (as in mating.plan_mating).
         wrist = point - 0.25 * approach
         cost += 2.0 * max(0.0, 0.45 - np.linalg.norm(wrist[:2] - base[:2]))
@@ -216,7 +221,9 @@ class TurnOver:
       return np.array([*standoff[:2], self._route.safe_height()]), self._rot
     if self.step == Step.STANDOFF:
       return standoff, self._rot
-    if self.step in (Step.IN, Step.CLOSE):
+    if self.step in (Step.IN, Step.CLOSE):   # to the leg where it stands now
+      pos, _ = targets.part_pose(self._env.physics, self._env.task.furniture, self._part)
+      self._point[:2] = pos[:2]
       return self._point, self._rot
     if self.step == Step.LIFT:
       return up, self._rot
@@ -243,7 +250,7 @@ class TurnOver:
                 if self.step == Step.OVER else goal[0])
     action = servo(robot, physics, arm, waypoint, goal[1], gain=0.3 if slow else 1.0,
                    max_turn=0.3 if self.step == Step.ROLL else 1.0,
-                   max_speed=0.3 if self.step in (Step.LIFT, Step.LOWER) else 1.0)
+                   max_speed=0.3 if self.step in (Step.IN, Step.LIFT, Step.LOWER) else 1.0)
     distance, angle = arm_motion.pose_error(robot, physics, arm, *goal)
     self._count += 1
     if self.step in (Step.LIFT, Step.ROLL, Step.LOWER) and not sensing.holding(
@@ -252,7 +259,8 @@ class TurnOver:
       self.step, self._count = Step.OPEN, 0
       self._set_out()
       return action
-    near = distance < (0.005 if self.step in (Step.IN, Step.LOWER) else 0.02) and angle < 0.05
+    near = distance < (0.005 if self.step in (Step.IN, Step.LOWER) else 0.02) and angle < (
+        0.02 if self.step == Step.STANDOFF else 0.05)   # squared up before it goes in
     if self.step == Step.ROLL:
       if angle < 0.1:
         self._rolled = min(np.pi, self._rolled + ROLL_STEP)
