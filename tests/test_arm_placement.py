@@ -94,6 +94,43 @@ def test_parts_lie_within_the_sector_the_arm_declares(robot):
   assert bearings.max() > 0.6 * sector   # the sector is used, not a narrower one
 
 
+def test_a_two_armed_robot_gets_loose_parts_on_both_sides_in_turn():
+  # Drawn over the whole sector, all of a stool's legs lay on one side of the torso in
+  # about 1 episode of 8, and one arm did all the work.
+  env = ikea_suite.load("stool_square_pine", "baxter", seed=7, scale=0.5)
+  zone = env.task.robot.reach_zone
+  assert zone.arms == 2
+  heading = np.arctan2(zone.base_rot[1, 0], zone.base_rot[0, 0])
+  first_sides = set()
+  for _ in range(8):
+    env.reset()
+    positions, _, _ = _part_yaws_and_distances(env)
+    offsets = np.delete(positions[:, :2] - zone.base_xy, env.task.root_part, axis=0)
+    bearings = np.angle(np.exp(1j * (np.arctan2(offsets[:, 1], offsets[:, 0]) - heading)))
+    left = int((bearings > 0).sum())
+    assert abs(left - (len(bearings) - left)) <= 1, bearings   # 4 legs: 2 and 2
+    first_sides.add(bool(bearings[0] > 0))
+  assert first_sides == {True, False}   # which side goes first is drawn
+
+
+def test_the_baxter_hands_reach_the_floor_tool_down_across_its_whole_sector():
+  # Its sector was the single arms' 110 degrees, where the hand stopped 2-4 cm over the
+  # floor with a joint at its limit, and a leg drawn there was never picked up.
+  env = ikea_suite.load("stool_square_pine", "baxter", seed=0, scale=0.5)
+  env.reset()
+  robot = env.task.robot
+  zone = robot.reach_zone
+  heading = np.arctan2(zone.base_rot[1, 0], zone.base_rot[0, 0])
+  down = np.diag([1.0, -1.0, -1.0])
+  for arm, side in ((0, -1.0), (1, 1.0)):   # right arm, right of the heading
+    for distance in (zone.min_distance, zone.reach):
+      angle = heading + side * zone.sector
+      goal = np.array([*(zone.base_xy + distance * np.array([np.cos(angle), np.sin(angle)])),
+                       0.03])
+      miss, margin, _ = robot.reach_check(env.physics, arm, goal, down, iterations=80)
+      assert miss < 0.01 and margin.min() > 0.1, (arm, distance, miss, margin)
+
+
 @pytest.mark.parametrize("furniture, scale", [("bookcase_shelf_unit_w60_h80_open", 0.24),
                                               ("bookcase_shelf_unit_w60_h80_open", 0.5),
                                               ("table_four_leg_lack", 0.5)])

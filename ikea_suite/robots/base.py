@@ -16,6 +16,7 @@ class ReachZone(NamedTuple):
   sector: float           # half-angle (rad) either side of the base's heading
   min_distance: float     # metres from the base inside which no part's centre lies
   root_distance: float    # metres from the base to the centre of the part built onto
+  arms: int = 1           # two: loose parts alternate between the arms' halves (Baxter)
 
 
 class Robot(composer.Entity, abc.ABC):

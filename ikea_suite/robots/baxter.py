@@ -27,6 +27,12 @@ class Baxter(manipulator.Manipulator):
   # the hand stalling over it for the rest of the episode.
   REACH = 0.82
   PLACEMENT_INNER = 0.62
+  # Tool down 3 cm over the floor, the IK from home keeps every joint 0.15 rad inside its
+  # limits out to 85 degrees from the heading across the band; at 100 degrees 0.72 m out
+  # a joint meets its limit, at 110 the hand stops 2-4 cm short (2026-11-26). From the
+  # arms' 110 degrees, a leg drawn 105 degrees out stalled the descent over it all episode
+  # (tuning seed 4, every model).
+  PLACEMENT_SECTOR = np.radians(85)
   # Its table tops' mates 0.3 m from the torso left the hands cramped there, and a part
   # dropped near them lay out of reach; 0.55 m out: 64 of 90 tuning episodes against 53
   # (seeds 0-9, 9 models; tables 4 -> 6-8 of 10, the round bar stool 10 -> 7).

@@ -210,7 +210,7 @@ class Manipulator(base.Robot):
     """base.ReachZone: where the task may put parts for this arm (tasks/arm_placement.py)."""
     return base.ReachZone(self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH),
                           float(self.PLACEMENT_SECTOR), float(self.PLACEMENT_INNER),
-                          float(self.ROOT_DISTANCE))
+                          float(self.ROOT_DISTANCE), len(self._arms))
 
   def bind_scene(self, arena, furniture, assembly, control_timestep):
     self._dt = control_timestep

@@ -69,14 +69,18 @@ class ReachableParts(placement.PartInitializer):
     yaw_range: largest |yaw| (rad) of a part about its resting pose.
     preassembled: connections made before the episode (int or (low, high)).
     support: the arenas.support.Support the parts lie on (default: the floor).
+    arms: the robot's arms; with two, the loose parts alternate between the halves of the
+      sector either side of the heading (the first half drawn at random), so each arm
+      has parts on its own side to bring.
   Raises:
     OptionValueError: spread wider than the reach allows, or a root part wider than the support.
   """
 
   def __init__(self, furniture, base_xy, base_rot, reach, min_distance, root_distance, sector,
                inner=0.2, gap=0.03, root_jitter=(0.03, np.radians(15)), max_attempts=200,
-               spread=None, yaw_range=np.pi, preassembled=0, support=support_lib.FLOOR):
+               spread=None, yaw_range=np.pi, preassembled=0, support=support_lib.FLOOR, arms=1):
     self._furniture = furniture
+    self._arms = arms
     self._support = support
     self._base_xy = np.asarray(base_xy, dtype=float)
     self._heading = np.arctan2(base_rot[1, 0], base_rot[0, 0])
@@ -197,24 +201,30 @@ class ReachableParts(placement.PartInitializer):
                          self._support.height, random_state,
                          skip=set(self.racked_parts) - racked)
       placed.append((xy, radius))
+    # Drawn at random, all of a stool's legs lay on one side of Baxter's torso in 1 of
+    # 8 episodes, and one arm did all the work.
+    side = (1.0 if random_state.uniform() < 0.5 else -1.0) if self._arms == 2 else None
     for item in items:
       if any(i == self._root for i, _, _ in item) or (len(item) == 1 and item[0][0] in racked):
         continue
       yaw_rot = geometry.rot_z(random_state.uniform(-self._yaw_range, self._yaw_range))
       _, _, radius = self._item_footprint(item, yaw_rot)
-      xy = self._sample_xy(random_state, radius, placed)
+      xy = self._sample_xy(random_state, radius, placed, side=side)
+      side = None if side is None else -side
       self._place(physics, item, yaw_rot, xy)
       placed.append((xy, radius))
 
-  def _sample_xy(self, random_state, radius, placed, reach=None):
+  def _sample_xy(self, random_state, radius, placed, reach=None, side=None):
     """A free xy for an item of `radius`, between the nearest distance allowed and `reach`
-    (default the band's outer edge; given, it may leave a band only 1 cm wide)."""
+    (default the band's outer edge; given, it may leave a band only 1 cm wide); with
+    `side` (+1 left, -1 right of the heading), in that half of the sector."""
     nearest = max(self._min_distance, self._inner + radius)
     outer = max(self._reach, nearest + 0.1) if reach is None else max(reach, nearest + 0.01)
     while True:
       for _ in range(self._max_attempts):
         distance = random_state.uniform(nearest, outer)
-        angle = self._heading + random_state.uniform(-self._sector, self._sector)
+        turn = random_state.uniform(-self._sector, self._sector)
+        angle = self._heading + (turn if side is None else side * abs(turn))
         xy = self._base_xy + distance * np.array([np.cos(angle), np.sin(angle)])
         if (all(np.linalg.norm(xy - other) > radius + other_r + self._gap
                 for other, other_r in placed) and self._support.contains(xy, radius)):
@@ -250,4 +260,4 @@ def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preasse
   return ReachableParts(furniture, reach_zone.base_xy, reach_zone.base_rot, reach_zone.reach,
                         reach_zone.min_distance, reach_zone.root_distance, reach_zone.sector,
                         spread=spread, yaw_range=float(yaw_range), preassembled=preassembled,
-                        support=support)
+                        support=support, arms=reach_zone.arms)
