@@ -17,6 +17,9 @@ class ReachZone(NamedTuple):
   min_distance: float     # metres from the base inside which no part's centre lies
   root_distance: float    # metres from the base to the centre of the part built onto
   arms: int = 1           # two: loose parts alternate between the arms' halves (Baxter)
+  # (bearing, metres): beyond that bearing from the heading parts may lie out to that
+  # distance instead of `reach`; None: `reach` at every bearing.
+  side_reach: tuple = None
 
 
 class Robot(composer.Entity, abc.ABC):

@@ -33,6 +33,10 @@ class Baxter(manipulator.Manipulator):
   # arms' 110 degrees, a leg drawn 105 degrees out stalled the descent over it all episode
   # (tuning seed 4, every model).
   PLACEMENT_SECTOR = np.radians(85)
+  # Out to 0.92 m from 25 degrees on (same IK: misses under 4 mm, joints 0.17 rad inside
+  # their limits). Within 85 degrees and 0.82 m, a wide table top left one half room for
+  # a single leg: the next spilled out of reach in 31 of 40 episodes of w120_white.
+  PLACEMENT_SIDE_REACH = (np.radians(25), 0.92)
   # Its table tops' mates 0.3 m from the torso left the hands cramped there, and a part
   # dropped near them lay out of reach; 0.55 m out: 64 of 90 tuning episodes against 53
   # (seeds 0-9, 9 models; tables 4 -> 6-8 of 10, the round bar stool 10 -> 7).

@@ -62,6 +62,8 @@ class Manipulator(base.Robot):
   ROOT_DISTANCE = 0.45
   # Parts lie within this angle either side of the base's heading (rad).
   PLACEMENT_SECTOR = np.radians(110)
+  # (bearing, metres): parts beyond that bearing may lie out that far (base.ReachZone).
+  PLACEMENT_SIDE_REACH = None
   # Furniture scale that fits this arm's reach (load(scale=...)): at 0.5 a 55 cm table
   # top is 27.5 cm and every part of the small furniture lies within REACH on the work
   # area in front of the base, the way FurnitureBench assembles miniature furniture.
@@ -210,7 +212,7 @@ class Manipulator(base.Robot):
     """base.ReachZone: where the task may put parts for this arm (tasks/arm_placement.py)."""
     return base.ReachZone(self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH),
                           float(self.PLACEMENT_SECTOR), float(self.PLACEMENT_INNER),
-                          float(self.ROOT_DISTANCE), len(self._arms))
+                          float(self.ROOT_DISTANCE), len(self._arms), self.PLACEMENT_SIDE_REACH)
 
   def bind_scene(self, arena, furniture, assembly, control_timestep):
     self._dt = control_timestep
