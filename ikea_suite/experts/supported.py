@@ -9,13 +9,13 @@ racked part and every mate on the root, and replay step for step with the
 present code (but for one Sawyer episode, still complete). A Baxter pair also
 needs both arms in at least 16 of its complete episodes; since its loose parts
 alternate between the arms' sides (twelfth session) it was measured again, on
-26000-26039 and 27000-27019 (below). Furniture with parts in the panel rack (tasks/panel_placement.py: the boxes and benches) was measured
-with the code of the tenth session on 22000-22019 (they replay step for step
-with the final code), the trestle desks and table with the final code on
-23000-23019, the Jaco's boxes on 21000-21019 and 22000-22019 (listed at 80% of
-each). The tables are in the
-README ("Expert sweep"). The scale is the one the robot assembles that furniture
-at (its WORK_SCALE; per-model work scales below it, none of which is listed).
+26000-26039 and 27000-27019 (below). Furniture with parts in the panel rack
+(tasks/panel_placement.py: the boxes and benches) was measured with the code of
+the tenth session on 22000-22019 (they replay step for step with the final
+code), the trestle desks and table with the final code on 23000-23019, the
+Jaco's boxes on 21000-21019 and 22000-22019 (listed at 80% of each). The tables
+are in the README ("Expert sweep"). The scale is the one the robot assembles that
+furniture at (its WORK_SCALE; per-model work scales below it, none of which is listed).
 """
 
 # robot -> {furniture: scale}

@@ -21,6 +21,7 @@ from ikea_suite.robots import control_modes
 from ikea_suite.robots import grippers
 from ikea_suite.robots import ik
 from ikea_suite.robots import manipulator_observables
+from ikea_suite.robots import work_area
 
 _HOME_CACHE = {}
 
@@ -48,22 +49,12 @@ def single_arm(root, elements, limits, joints, gripper_spec, seed, home_tcp, wor
       home_tcp=np.array(home_tcp), workspace=np.array(workspace_box))
 
 
-class Manipulator(base.Robot):
-  """An arm robot on a fixed base; see control_modes for the action of each mode."""
+class Manipulator(work_area.WorkArea, base.Robot):
+  """An arm robot on a fixed base; see control_modes for the action of each mode, and
+  work_area.WorkArea for where the task lays its parts."""
 
   DEFAULT_NAME = "manipulator"
   BASE_POS = (-0.55, 0.0, 0.0)   # world position of the base, facing +x
-  REACH = 0.85                   # metres from the base where parts are placed
-  # Metres from the base inside which no part is placed: an arm pointing down cannot
-  # reach right beside itself.
-  PLACEMENT_INNER = 0.55
-  # Metres out to the centre of the part built onto (more for a wide one): a held part mated
-  # nearer the base folds the elbow into it (measured with the Sawyer at 0.4 m).
-  ROOT_DISTANCE = 0.45
-  # Parts lie within this angle either side of the base's heading (rad).
-  PLACEMENT_SECTOR = np.radians(110)
-  # (bearing, metres): parts beyond that bearing may lie out that far (base.ReachZone).
-  PLACEMENT_SIDE_REACH = None
   # Furniture scale that fits this arm's reach (load(scale=...)): at 0.5 a 55 cm table
   # top is 27.5 cm and every part of the small furniture lies within REACH on the work
   # area in front of the base, the way FurnitureBench assembles miniature furniture.
@@ -206,13 +197,6 @@ class Manipulator(base.Robot):
     frame.pos = self._base_pos
     frame.quat = geometry.mat_to_quat(self._base_rot)
     return frame
-
-  @property
-  def reach_zone(self):
-    """base.ReachZone: where the task may put parts for this arm (tasks/arm_placement.py)."""
-    return base.ReachZone(self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH),
-                          float(self.PLACEMENT_SECTOR), float(self.PLACEMENT_INNER),
-                          float(self.ROOT_DISTANCE), len(self._arms), self.PLACEMENT_SIDE_REACH)
 
   def bind_scene(self, arena, furniture, assembly, control_timestep):
     self._dt = control_timestep

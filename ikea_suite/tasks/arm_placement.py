@@ -233,7 +233,9 @@ class ReachableParts(placement.PartInitializer):
         for _ in range(self._max_attempts):
           distance = random_state.uniform(nearest, outer)
           turn = random_state.uniform(-self._sector, self._sector)
-          if further and abs(turn) >= self._side_reach[0]:   # the band widened, in proportion
+          # At the sides the band reaches `further` out: the draw is stretched to it rather
+          # than drawn again, so placements that never need it keep their random draws.
+          if further and abs(turn) >= self._side_reach[0]:
             distance = nearest + (distance - nearest) * (outer + further - nearest) / (
                 outer - nearest)
           angle = self._heading + (turn if half is None else half * abs(turn))
