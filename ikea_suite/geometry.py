@@ -67,6 +67,9 @@ def mat_to_axis_angle(mat):
 _CORNERS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=bool)
 
 
+HALF_TURN_X = np.diag([1.0, -1.0, -1.0])   # half a turn about the x axis: turned over
+
+
 def box_corners(low, high):
   """(8, 3) corners of the axis-aligned box from `low` to `high`."""
   return np.where(_CORNERS, np.asarray(high, float), np.asarray(low, float))

@@ -389,9 +389,8 @@ class ArmAssemblyController:
     part rests on it (a chair's back, dragged off the seat, knocked the chair over)."""
     tcp, _ = self._robot.tcp_pose(self._env.physics, self._arm)
     task, spot = self._env.task, self._grasp[0]
-    labels = task.state.group_labels()
     self._put_back_path = [spot + [0.0, 0.0, z] for z in (tcp[2] - spot[2], self._lift, 0.008)]
     if sensing.touching(self._env.physics, task.furniture, self._job[1],
-                        np.flatnonzero(labels == labels[task.root_part])):
+                        targets.root_group(task)):
       self._put_back_path.insert(0, tcp + [0.0, 0.0, 0.05])
     self.phase, self._counter = Phase.PUT_BACK, 0

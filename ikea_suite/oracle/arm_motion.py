@@ -239,6 +239,14 @@ def hand_below_tool(robot, physics, arm, rot):
   return -lowest
 
 
+def cramped(base_pos, tool_pos, tool_axis):
+  """How far (m) the wrist, 0.25 m back along the tool axis, lies inside 0.45 m of the base
+  (horizontally): a wrist folded in beside the base is cramped, and the differential IK
+  stalls there."""
+  wrist = tool_pos - 0.25 * tool_axis
+  return max(0.0, 0.45 - np.linalg.norm(wrist[:2] - base_pos[:2]))
+
+
 def pinned(robot, physics, arm, within=0.02):
   """True when a joint of the arm is within `within` rad of a limit its IK keeps it in."""
   low, high = robot.ik.limits

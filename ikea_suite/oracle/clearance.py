@@ -8,7 +8,6 @@ straight up from beside it, and swing around the base rather than across it.
 
 import numpy as np
 
-from ikea_suite import geometry
 from ikea_suite.oracle import arm_motion
 from ikea_suite.oracle import targets
 
@@ -27,9 +26,8 @@ class AssemblyClearance:
   def assembly_top(self):
     """Height of the highest corner of the parts joined to the root (or of the surface)."""
     task, physics = self._env.task, self._env.physics
-    groups = task.state.group_labels()
-    group = np.flatnonzero(groups == groups[task.root_part])
-    return max(self._surface, targets.parts_corners(physics, task.furniture, group)[:, 2].max())
+    return max(self._surface, targets.parts_corners(
+        physics, task.furniture, targets.root_group(task))[:, 2].max())
 
   def safe_height(self, clearance=0.08):
     """Tool height at which the open fingers pass `clearance` over the assembly."""
@@ -61,8 +59,7 @@ class AssemblyClearance:
   def carry_floor(self, goal, part, part_pos, part_rot, clearance=0.03):
     """Lowest tool height (m) over the tool goal `goal` at which `part`, held as it will sit
     at (part_pos, part_rot), passes `clearance` over the assembly."""
-    corners = (geometry.box_corners(*self._env.task.furniture.spec.parts[part].bounds)
-               @ part_rot.T + part_pos)
+    corners = targets.part_corners(self._env.task.furniture, part, part_pos, part_rot)
     return self.assembly_top() + clearance + goal[2] - corners[:, 2].min()
 
   def reachable_carry(self, goal, rot, top, floor, step=0.02):

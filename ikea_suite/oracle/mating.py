@@ -3,6 +3,7 @@ the tool pose that puts the part there (privileged state; nothing moves)."""
 
 import numpy as np
 
+from ikea_suite.oracle import arm_motion
 from ikea_suite.oracle import targets
 from ikea_suite.tasks import planner
 
@@ -104,9 +105,8 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None):
       part_pos, part_rot, side = mate_pose(env, pair, moving, twist)
       goal_pos, goal_rot = tool_goal_for_part(
           env, arm, moving, part_pos + approach * side, part_rot, grip)
-      # A wrist folded in beside the base is cramped: the differential IK stalls there.
+      cramped = arm_motion.cramped(base_pos, goal_pos, goal_rot[:, 2])
       wrist = goal_pos - 0.25 * goal_rot[:, 2]
-      cramped = max(0.0, 0.45 - np.linalg.norm(wrist[:2] - base_pos[:2]))
       # A hand reaching in from the middle of the assembly strikes the parts already on
       # it and drags the assembly along: come in from outside.
       inward = max(0.0, np.linalg.norm(goal_pos[:2] - centre) - np.linalg.norm(wrist[:2] - centre))

@@ -68,11 +68,21 @@ def mated_part_pose(physics, furniture, pair, moving, twist):
   return pos, rot, side / max(np.linalg.norm(side), 1e-6)
 
 
+def part_corners(furniture, part, pos, rot):
+  """World corners (8, 3) of the part's collision bounds with the part at (pos, rot)."""
+  return geometry.box_corners(*furniture.spec.parts[part].bounds) @ rot.T + pos
+
+
 def parts_corners(physics, furniture, parts):
   """World corners (8 per part, stacked) of the parts' collision bounds as they lie now."""
   positions, rotations = furniture.part_poses(physics)
-  return np.concatenate([geometry.box_corners(*furniture.spec.parts[p].bounds) @ rotations[p].T
-                         + positions[p] for p in parts])
+  return np.concatenate([part_corners(furniture, p, positions[p], rotations[p]) for p in parts])
+
+
+def root_group(task):
+  """Indices of the parts joined to the root (the root among them)."""
+  labels = task.state.group_labels()
+  return np.flatnonzero(labels == labels[task.root_part])
 
 
 def part_radius(furniture, part):

@@ -47,7 +47,7 @@ def under_support(physics, furniture, pair, moving, surface):
   or more into the surface (a chair's back under its upside-down seat)."""
   pos, rot, _ = targets.mated_part_pose(physics, furniture, pair, moving,
                                         _twist(furniture.connectors, pair))
-  corners = geometry.box_corners(*furniture.spec.parts[moving].bounds) @ rot.T + pos
+  corners = targets.part_corners(furniture, moving, pos, rot)
   return bool(corners[:, 2].min() < surface - BELOW)
 
 
@@ -131,9 +131,7 @@ class TurnOver:
     self._failed_handles = set()   # (part, approach) that slipped or stalled, this episode
 
   def _group(self):
-    task = self._env.task
-    labels = task.state.group_labels()
-    return [p for p in range(len(task.furniture.parts)) if labels[p] == labels[task.root_part]]
+    return targets.root_group(self._env.task)
 
   def _plan(self, part, approach, closing):
     """(grasp position, grasp rotation, lift height) for a handle, or None when the legs
@@ -190,9 +188,7 @@ class TurnOver:
         rolled = point + (slots - point) @ geometry.axis_angle_to_mat(np.pi * approach).T
         cost = SLOT_OUT * np.abs(np.linalg.norm(rolled[:, :2] - base[:2], axis=1)
                                  - np.linalg.norm(centre[:2] - base[:2])).mean()
-        # A wrist folded in beside the base is cramped (as in mating.plan_mating).
-        wrist = point - 0.25 * approach
-        cost += 2.0 * max(0.0, 0.45 - np.linalg.norm(wrist[:2] - base[:2]))
+        cost += 2.0 * arm_motion.cramped(base, point, approach)
         for goal in poses:
           miss, margin, _ = robot.reach_check(physics, self._arm, *goal)
           cost += miss + np.maximum(0.0, 0.2 - margin).sum()

@@ -29,7 +29,6 @@ from ikea_suite.tasks import panel_placement
 from ikea_suite.tasks import placement
 from ikea_suite.tasks import planner
 
-_FLIP = np.diag([1.0, -1.0, -1.0])   # half a turn about the world x axis
 # A root whose farthest connector would lie beyond ROOT_FAR of the arm's reach, lying
 # along the radius from the base, lies across it if that brings the farthest connector
 # at least ROOT_GAIN (m) nearer: a trestle desk's far trestle slot, 0.76 m out, was at
@@ -105,7 +104,7 @@ class ReachableParts(placement.PartInitializer):
     spec = furniture.spec
     self._root = planner.root_part(spec)
     rest = placement.resting_rotation(spec.parts[self._root].bounds)
-    rest = _FLIP @ rest if mates_from_below(spec, furniture.connectors, self._root, rest) else rest
+    rest = geometry.HALF_TURN_X @ rest if mates_from_below(spec, furniture.connectors, self._root, rest) else rest
     self._root_rest = self._across_if_far(furniture.connectors, rest, reach)
     # Any yaw of the lying root fits within the disc of its half-diagonal.
     root_radius = np.linalg.norm(np.ptp(

@@ -29,7 +29,6 @@ RACK_SPARE = 0.1
 # its upside-down seat) goes in once the expert has turned the assembly over
 # (oracle/turn_over.py), so it stands in the rack the way up it will then have.
 UNDER = 0.01
-TURNED_OVER = np.diag([1.0, -1.0, -1.0])   # half a turn about x
 
 
 def is_panel(extents):
@@ -57,7 +56,7 @@ def upright_panels(spec, root, root_rest):
       continue
     rot = design_to_world @ part.rot
     if lowest(part) < root_bottom - UNDER:   # goes in once the assembly is turned over
-      rot = TURNED_OVER @ rot
+      rot = geometry.HALF_TURN_X @ rot
     normal = rot[:, order[0]]
     if abs(normal[2]) > 0.5:   # lies flat when assembled
       continue
