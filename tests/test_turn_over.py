@@ -7,8 +7,10 @@ import ikea_suite
 from ikea_suite import geometry
 from ikea_suite import experts
 from ikea_suite.oracle import arm_controller
+from ikea_suite.oracle import mating
 from ikea_suite.oracle import targets
 from ikea_suite.oracle import turn_over
+from ikea_suite.tasks import planner
 
 CHAIR = "chair_back_pine_high"
 
@@ -91,3 +93,52 @@ def test_a_part_put_back_from_the_assembly_is_lifted_off_it_first():
   tcp, _ = env.task.robot.tcp_pose(physics, 0)
   assert lengths == [3, 4]
   np.testing.assert_allclose(expert._put_back_path[0], tcp + [0.0, 0.0, 0.05])
+
+
+def _legs_joined(env, count):
+  """Joins the first `count` legs to the upturned seat (connect_in_place); returns the
+  seat's connector left open for the next leg, its world position."""
+  task, physics = env.task, env.physics
+  table = task.furniture.connectors
+  joined, free = 0, None
+  for pair in range(len(table.pair_a)):
+    if not planner.open_pairs(table, task.state)[pair]:
+      continue   # its leg or its slot is taken
+    a, b = table.pair_a[pair], table.pair_b[pair]
+    names = {task.furniture.spec.parts[table.part[c]].name for c in (a, b)}
+    if "seat" not in names or not any(n.startswith("leg") for n in names):
+      continue
+    seat_side = a if table.part[a] == task.root_part else b
+    if joined < count:
+      leg = int(table.part[b if seat_side == a else a])
+      pos, rot, _ = targets.mated_part_pose(physics, task.furniture, pair, leg, 0.0)
+      task.furniture.set_part_pose(physics, leg, pos, geometry.mat_to_quat(rot))
+      task.connect_in_place(physics, pair)
+      joined += 1
+    elif free is None:
+      free = seat_side
+  cpos, _ = table.world_frames(*task.furniture.part_poses(physics))
+  return cpos[free]
+
+
+def _pointing(axis):
+  """A tool rotation whose axis (third column) is the unit horizontal `axis`."""
+  axis = np.asarray(axis, float) / np.linalg.norm(axis)
+  across = np.cross([0.0, 0.0, 1.0], axis)
+  return np.column_stack([across, np.cross(axis, across), axis])
+
+
+def test_a_hand_reaching_in_across_the_standing_legs_is_in_their_way():
+  # A Panda taking a chair's near corner with its tool pointing back at its base crossed
+  # the seat, and its forearm pushed the far legs 0.4 m (tuning seed 2): plan_mating now
+  # counts the whole hand, back to the wrist, against the parts already joined.
+  env = _env()
+  corner = _legs_joined(env, 3)
+  seat, _ = targets.part_pose(env.physics, env.task.furniture, env.task.root_part)
+  tool = corner + [0.0, 0.0, 0.1]   # about where the fourth leg is held, going in
+  inward = seat[:2] - corner[:2]
+  across = mating.hand_in_the_way(env, 0, tool, _pointing([*-inward, 0.0]))
+  outside = mating.hand_in_the_way(env, 0, tool, _pointing([*inward, 0.0]))
+  down = mating.hand_in_the_way(env, 0, tool, geometry.HALF_TURN_X)
+  assert across > 0.05   # the hand over the seat runs into the legs standing there
+  assert outside == 0.0 and down == 0.0

@@ -221,29 +221,40 @@ class Unwinder:
     return action
 
 
-def hand_below_tool(robot, physics, arm, rot):
-  """How far (m) the hand (every collision geom fixed to the tool) reaches below the tool
-  centre with the tool turned to world rotation `rot`: pointing sideways, the Panda's last
-  link struck the floor with the tool centre 8.5 cm above it."""
+def hand_reach(robot, physics, arm, rot, direction):
+  """How far (m) the hand (every collision geom fixed to the tool) reaches from the tool
+  centre along the unit world `direction`, with the tool turned to world rotation `rot`."""
   model, data = physics.model, physics.data
   site = physics.bind(robot.arms[arm].gripper.tcp_site).element_id
   tcp, tcp_rot = data.site_xpos[site], data.site_xmat[site].reshape(3, 3)
   rigid = model.body_weldid[model.site_bodyid[site]]
-  lowest = 0.0
+  farthest = 0.0
   for geom in np.flatnonzero(model.body_weldid[model.geom_bodyid] == rigid):
     if not (model.geom_contype[geom] or model.geom_conaffinity[geom]):
       continue
     geom_rot = rot @ tcp_rot.T @ data.geom_xmat[geom].reshape(3, 3)   # as the tool turns
     centre = rot @ tcp_rot.T @ (data.geom_xpos[geom] - tcp) + geom_rot @ model.geom_aabb[geom, :3]
-    lowest = min(lowest, centre[2] - np.abs(geom_rot[2]) @ model.geom_aabb[geom, 3:])
-  return -lowest
+    farthest = max(farthest, centre @ direction
+                   + np.abs(direction @ geom_rot) @ model.geom_aabb[geom, 3:])
+  return farthest
+
+
+def hand_below_tool(robot, physics, arm, rot):
+  """How far (m) the hand reaches below the tool centre with the tool turned to world
+  rotation `rot`: pointing sideways, the Panda's last link struck the floor with the tool
+  centre 8.5 cm above it."""
+  return hand_reach(robot, physics, arm, rot, np.array([0.0, 0.0, -1.0]))
+
+
+# Metres from the tool centre back along its axis to the wrist, as the planners reckon it.
+WRIST_BACK = 0.25
 
 
 def cramped(base_pos, tool_pos, tool_axis):
-  """How far (m) the wrist, 0.25 m back along the tool axis, lies inside 0.45 m of the base
+  """How far (m) the wrist, WRIST_BACK along the tool axis, lies inside 0.45 m of the base
   (horizontally): a wrist folded in beside the base is cramped, and the differential IK
   stalls there."""
-  wrist = tool_pos - 0.25 * tool_axis
+  wrist = tool_pos - WRIST_BACK * tool_axis
   return max(0.0, 0.45 - np.linalg.norm(wrist[:2] - base_pos[:2]))
 
 

@@ -76,13 +76,44 @@ def off_design(env, moving, part_pos, part_rot, pair):
       part_pos + part_rot @ table.local_pos[c]), axis=1).min()) for c in mine)
 
 
+def hand_in_the_way(env, arm, tool_pos, tool_rot):
+  """How far (m, summed over parts) the hand, from the tool centre back to the wrist
+  (arm_motion.WRIST_BACK along the tool axis) and as wide as it reaches sideways
+  (arm_motion.hand_reach), runs into the parts already joined to the root (their
+  collision boxes), with the tool at (tool_pos, tool_rot); 0 for a tool within 60
+  degrees of vertical, whose hand stays above what it mates. A hand reaching in over
+  the middle of the assembly strikes the parts standing there and drags it along: a
+  Panda taking a chair's near corner, its tool pointing back at the base, crossed the
+  seat, and its forearm pushed the two far legs 0.4 m (tuning seed 2)."""
+  physics, task, robot = env.physics, env.task, env.task.robot
+  back = -tool_rot[:, 2]
+  if np.linalg.norm(back[:2]) < 0.5:
+    return 0.0
+  side = np.array([-back[1], back[0], 0.0]) / np.linalg.norm(back[:2])
+  half_width = max(arm_motion.hand_reach(robot, physics, arm, tool_rot, side),
+                   arm_motion.hand_reach(robot, physics, arm, tool_rot, -side))
+  hand = tool_pos + np.linspace(0.0, arm_motion.WRIST_BACK, 11)[:, None] * back
+  positions, rotations = task.furniture.part_poses(physics)
+  overlap = 0.0
+  for part in targets.root_group(task):
+    if part == task.root_part:
+      continue
+    low, high = task.furniture.spec.parts[part].bounds
+    local = (hand - positions[part]) @ rotations[part]
+    gap = np.linalg.norm(local - np.clip(local, low, high), axis=1).min()
+    overlap += max(0.0, half_width - gap)
+  return overlap
+
+
 def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None):
   """(score, pair, twist) for the held part: the mate and twist the arm reaches best.
 
   Each candidate's pre-insertion tool pose (`approach` m back from the mate along its
-  side) is solved by IK; misses, joint travel, joints near their limits and a wrist
-  cramped beside the base cost. (pair, twist) in `failed_plans` are skipped. None when
-  no mate is open.
+  side) is solved by IK; misses, joint travel, joints near their limits, a wrist
+  cramped beside the base and a hand that runs into the parts already standing on the
+  root (hand_in_the_way: a centimetre of it weighs as 0.1 of reach cost, so a hand
+  from outside wins wherever the arm reaches it) cost. (pair, twist) in `failed_plans`
+  are skipped. None when no mate is open.
   """
   task, physics, robot = env.task, env.physics, env.task.robot
   table, state = task.furniture.connectors, task.state
@@ -91,7 +122,6 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None):
   part_xy = task.furniture.part_poses(physics)[0][moving][:2]
   # Mates nearby first; from the rack, the farthest first (see jobs.nearest_open_job).
   nearby = -0.3 if moving in task.initializer.racked_parts else 0.3
-  centre, _ = targets.assembly_circle(physics, task.furniture, task.root_part)
   best = None
   for pair in np.flatnonzero(planner.open_pairs(table, state)):
     parts = {int(table.part[table.pair_a[pair]]), int(table.part[table.pair_b[pair]])}
@@ -106,12 +136,9 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None):
       goal_pos, goal_rot = tool_goal_for_part(
           env, arm, moving, part_pos + approach * side, part_rot, grip)
       cramped = arm_motion.cramped(base_pos, goal_pos, goal_rot[:, 2])
-      wrist = goal_pos - 0.25 * goal_rot[:, 2]
-      # A hand reaching in from the middle of the assembly strikes the parts already on
-      # it and drags the assembly along: come in from outside.
-      inward = max(0.0, np.linalg.norm(goal_pos[:2] - centre) - np.linalg.norm(wrist[:2] - centre))
+      in_the_way = hand_in_the_way(env, arm, goal_pos, goal_rot)
       score = (reach_cost(robot, physics, arm, goal_pos, goal_rot) + 2.0 * cramped
-               + 2.0 * inward + nearby * np.linalg.norm(goal_pos[:2] - part_xy)
+               + 10.0 * in_the_way + nearby * np.linalg.norm(goal_pos[:2] - part_xy)
                + 5.0 * (off_design(env, moving, part_pos, part_rot, pair)
                         > task.thresholds.distance))
       if best is None or score < best[0]:
