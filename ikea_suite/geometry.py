@@ -64,10 +64,10 @@ def mat_to_axis_angle(mat):
   return axis / (2 * np.sin(angle)) * angle
 
 
-_CORNERS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=bool)
-
-
 HALF_TURN_X = np.diag([1.0, -1.0, -1.0])   # half a turn about the x axis: turned over
+
+
+_CORNERS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=bool)
 
 
 def box_corners(low, high):

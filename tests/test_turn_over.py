@@ -7,6 +7,7 @@ import ikea_suite
 from ikea_suite import geometry
 from ikea_suite import experts
 from ikea_suite.oracle import arm_controller
+from ikea_suite.oracle import arm_motion
 from ikea_suite.oracle import mating
 from ikea_suite.oracle import targets
 from ikea_suite.oracle import turn_over
@@ -121,13 +122,6 @@ def _legs_joined(env, count):
   return cpos[free]
 
 
-def _pointing(axis):
-  """A tool rotation whose axis (third column) is the unit horizontal `axis`."""
-  axis = np.asarray(axis, float) / np.linalg.norm(axis)
-  across = np.cross([0.0, 0.0, 1.0], axis)
-  return np.column_stack([across, np.cross(axis, across), axis])
-
-
 def test_a_hand_reaching_in_across_the_standing_legs_is_in_their_way():
   # A Panda taking a chair's near corner with its tool pointing back at its base crossed
   # the seat, and its forearm pushed the far legs 0.4 m (tuning seed 2): plan_mating now
@@ -136,9 +130,14 @@ def test_a_hand_reaching_in_across_the_standing_legs_is_in_their_way():
   corner = _legs_joined(env, 3)
   seat, _ = targets.part_pose(env.physics, env.task.furniture, env.task.root_part)
   tool = corner + [0.0, 0.0, 0.1]   # about where the fourth leg is held, going in
-  inward = seat[:2] - corner[:2]
-  across = mating.hand_in_the_way(env, 0, tool, _pointing([*-inward, 0.0]))
-  outside = mating.hand_in_the_way(env, 0, tool, _pointing([*inward, 0.0]))
+  inward = np.array([*(seat[:2] - corner[:2]), 0.0]) / np.linalg.norm(seat[:2] - corner[:2])
+  closing_local = experts.make_expert(env).closing_local()
+
+  def pointing(axis):   # the fingers closing across a standing leg, horizontally
+    return arm_motion.tool_rotation(axis, np.cross([0.0, 0.0, 1.0], axis), closing_local)
+
+  across = mating.hand_in_the_way(env, 0, tool, pointing(-inward))
+  outside = mating.hand_in_the_way(env, 0, tool, pointing(inward))
   down = mating.hand_in_the_way(env, 0, tool, geometry.HALF_TURN_X)
   assert across > 0.05   # the hand over the seat runs into the legs standing there
   assert outside == 0.0 and down == 0.0

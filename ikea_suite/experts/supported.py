@@ -7,10 +7,11 @@ below was measured again after the fourteenth session's change to the mate
 choice (mating.hand_in_the_way, for every arm), on fresh seeds 29000-29019
 (--seed-start 29000 --seeds 20); the Baxter's pine, white_tall, Lack and
 w75_black, and the Sawyer's pine, white_tall, Lack, w90_birch and w120_white,
-also on 29020-29039, and listed over all 40. A Baxter pair also needs both arms in at least 16 of its complete
-episodes (every complete episode used both). The tables are in the README
-("Expert sweep"). The scale is the one the robot assembles that furniture at
-(its WORK_SCALE; per-model work scales below it, none of which is listed).
+also on 29020-29039, and listed over all 40. A Baxter pair also needs both
+arms in at least 16 of its complete episodes (every complete episode used
+both). The tables are in the README ("Expert sweep"). The scale is the one the
+robot assembles that furniture at (its WORK_SCALE; per-model work scales below
+it, none of which is listed).
 """
 
 # robot -> {furniture: scale}

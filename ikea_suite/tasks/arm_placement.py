@@ -104,7 +104,8 @@ class ReachableParts(placement.PartInitializer):
     spec = furniture.spec
     self._root = planner.root_part(spec)
     rest = placement.resting_rotation(spec.parts[self._root].bounds)
-    rest = geometry.HALF_TURN_X @ rest if mates_from_below(spec, furniture.connectors, self._root, rest) else rest
+    if mates_from_below(spec, furniture.connectors, self._root, rest):
+      rest = geometry.HALF_TURN_X @ rest
     self._root_rest = self._across_if_far(furniture.connectors, rest, reach)
     # Any yaw of the lying root fits within the disc of its half-diagonal.
     root_radius = np.linalg.norm(np.ptp(
