@@ -141,3 +141,76 @@ def test_a_hand_reaching_in_across_the_standing_legs_is_in_their_way():
   down = mating.hand_in_the_way(env, 0, tool, geometry.HALF_TURN_X)
   assert across > 0.05   # the hand over the seat runs into the legs standing there
   assert outside == 0.0 and down == 0.0
+
+
+def test_a_failed_turn_over_try_lets_the_arm_unwind_before_the_next():
+  # With only the back's mate left there is no part to reach for, and the next try used
+  # to start on the step after a failed one, cutting the unwinding short: each try set off
+  # with the arm still wound and the way to the handle pinned its last joint
+  # (kids_birch, tuning seed 1: five tries failed so).
+  env = _env()
+  _legs_joined(env, 4)   # only the back is left; it waits for the turn-over
+  robot, physics = env.task.robot, env.physics
+  joints = physics.bind(robot.arms[0].joints)
+  joints.qpos = joints.qpos + np.array([1.3, 0, 0, 0, 0, 0, -1.2])   # wound, as after a try
+  physics.forward()
+  expert = experts.make_expert(env)
+  expert.reset()
+  expert._connections = len(env.task.state.connections)   # none made since it last looked
+  assert expert._unwinder.distance_from_home(robot, physics, 0) > arm_controller.UNWIND_FROM
+  expert._to_next_reach()   # what a failed try ends with
+  assert expert.phase == arm_controller.Phase.UNWIND
+  timestep = None
+  for _ in range(300):
+    timestep = env.step(expert(timestep))
+    if expert.phase == arm_controller.Phase.TURN_OVER:
+      break
+  assert expert.phase == arm_controller.Phase.TURN_OVER
+  assert expert._unwinder.distance_from_home(robot, physics, 0) < 0.25   # home first
+
+
+def test_the_unwinding_after_a_turn_over_passes_over_the_chair():
+  # Tuning seed 0: the straight joint path home from the rolled wrist swung the fingers
+  # 0.2 m down into the chair just stood up, and the rising hand flipped it onto its seat.
+  env = ikea_suite.load(CHAIR, "panda", scale=0.5, seed=0)
+  expert = experts.make_expert(env)
+  timestep = env.reset()
+  expert.reset()
+  seat, phase = env.task.root_part, arm_controller.Phase
+  lowered = unwound = False
+  lowest = np.inf
+  for _ in range(2500):
+    timestep = env.step(expert(timestep))
+    if expert.phase == phase.TURN_OVER and expert._turn_over.step == turn_over.Step.LOWER:
+      lowered = True
+    elif lowered and expert.phase == phase.UNWIND:
+      lowest = min(lowest, env.task.robot.tcp_pose(env.physics, 0)[0][2])
+    elif lowered and lowest < np.inf:
+      unwound = True
+      break
+  assert unwound
+  _, rotations = env.task.furniture.part_poses(env.physics)
+  assert rotations[seat][2, 2] > 0.99   # still on its legs
+  assert lowest > expert._clearance.assembly_top()
+
+
+def test_keep_clear_raises_the_unwinding_waypoints_over_the_assembly_but_not_home():
+  env = _env()
+  _legs_joined(env, 4)
+  robot, physics = env.task.robot, env.physics
+  route = experts.make_expert(env)._clearance
+  seat_pos, _ = targets.part_pose(physics, env.task.furniture, env.task.root_part)
+  low = np.array([seat_pos[0], seat_pos[1], 0.05])
+  np.testing.assert_allclose(route.above_assembly(low), [*low[:2], route.safe_height()])
+  far = low + [2.0, 0.0, 0.0]
+  np.testing.assert_allclose(route.above_assembly(far), far)
+  joints = physics.bind(robot.arms[0].joints)
+  joints.qpos = joints.qpos + np.array([1.3, 0, 0, 0, 0, 0, -1.2])
+  physics.forward()
+  plain, raised = arm_motion.Unwinder(), arm_motion.Unwinder()
+  plain.start(robot, physics, 0)
+  raised.start(robot, physics, 0, keep_clear=lambda p: p + [0.0, 0.0, 1.0])
+  for (p, r), (q, s) in zip(plain.waypoints[:-1], raised.waypoints[:-1]):
+    np.testing.assert_allclose(q, p + [0.0, 0.0, 1.0])
+    np.testing.assert_allclose(s, r)
+  np.testing.assert_allclose(raised.waypoints[-1][0], plain.waypoints[-1][0])   # home itself

@@ -177,7 +177,8 @@ class ArmAssemblyController:
         self._grasp_sign = mating.choose_grasp_sign(
             env, arm, self._job[1], self._grasp_pose, self._hover, self._approach,
             self._failed_plans, self._stalled_grasps)
-      elif turn_over.waiting(task, physics, self._surface) and self._turn_over.start(
+      elif self.phase != Phase.UNWIND and turn_over.waiting(
+          task, physics, self._surface) and self._turn_over.start(
           self.closing_local()):
         self.phase = Phase.TURN_OVER
     if self._job is None and self.phase not in (Phase.RELEASE, Phase.RETREAT, Phase.UNWIND,
@@ -333,7 +334,7 @@ class ArmAssemblyController:
     elif phase == Phase.TURN_OVER:
       poses[:], action[grip] = self._turn_over(self._servo), self._turn_over.gripper()
       if self._turn_over.step == turn_over.Step.DONE:
-        self._to_next_reach()
+        self._to_next_reach(keep_clear=True)
     elif phase == Phase.UNWIND:
       poses[:] = self._unwinder(robot, physics, arm)
       if self._unwinder.done:
@@ -349,15 +350,16 @@ class ArmAssemblyController:
     return (not self._against_pair() or
             last is not None and np.linalg.norm(tcp - last) < SETTLED_SPEED)
 
-  def _unwind(self):
-    self._unwinder.start(self._robot, self._env.physics, self._arm)
+  def _unwind(self, keep_clear=False):
+    self._unwinder.start(self._robot, self._env.physics, self._arm,
+                         keep_clear=self._clearance.above_assembly if keep_clear else None)
     self.phase, self._counter, self._stalled = Phase.UNWIND, 0, 0
 
-  def _to_next_reach(self):
+  def _to_next_reach(self, keep_clear=False):
     """On to the next reach, by way of home when the arm has wound far from it."""
     self.phase, self._counter = Phase.REACH, 0
     if self._unwinder.distance_from_home(self._robot, self._env.physics, self._arm) > UNWIND_FROM:
-      self._unwind()
+      self._unwind(keep_clear)
 
   def _carry_stalled(self, moving, pair, twist):
     """A carry that stopped short of its mating pose with a joint at its limit: another

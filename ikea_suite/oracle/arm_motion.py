@@ -187,8 +187,11 @@ class Unwinder:
     """Largest angle (rad) of any of the arm's joints from its home angle."""
     return float(np.abs(cls._travel(robot, physics, arm)[2]).max())
 
-  def start(self, robot, physics, arm):
-    """Plans the path from the present joints; then call until `done`."""
+  def start(self, robot, physics, arm, keep_clear=None):
+    """Plans the path from the present joints; then call until `done`. `keep_clear` (a
+    position -> position callable) moves each waypoint but the last clear of what the arm
+    must not strike: beside a chair just turned over, the straight joint path swung the
+    fingers 0.2 m down into it and the rising hand flipped it (pine_high, tuning seed 0)."""
     q, index, travel = self._travel(robot, physics, arm)
     count = max(1, int(np.ceil(np.abs(travel).max() / self._max_joint_step)))
     base_pos, base_rot = robot.base_pose
@@ -197,7 +200,10 @@ class Unwinder:
       path_q = q.copy()
       path_q[index] += travel * (k / count)
       pos, rot = robot.ik.tcp_poses(path_q)[arm]
-      self.waypoints.append((base_rot @ pos + base_pos, base_rot @ rot))
+      pos = base_rot @ pos + base_pos
+      if keep_clear is not None and k < count:
+        pos = keep_clear(pos)
+      self.waypoints.append((pos, base_rot @ rot))
     self._servo.reset()
     self._counter = 0
 

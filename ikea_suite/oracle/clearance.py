@@ -56,6 +56,15 @@ class AssemblyClearance:
     self._rise_from = None
     return np.array([goal[0], goal[1], max(goal[2], safe)])
 
+  def above_assembly(self, pos, margin=0.15, clearance=0.08):
+    """`pos` raised to safe_height where it lies within `margin` of the assembly's
+    footprint circle; elsewhere unchanged."""
+    task, physics = self._env.task, self._env.physics
+    centre, radius = targets.assembly_circle(physics, task.furniture, task.root_part)
+    if np.linalg.norm(pos[:2] - centre) >= radius + margin:
+      return pos
+    return np.array([pos[0], pos[1], max(pos[2], self.safe_height(clearance))])
+
   def carry_floor(self, goal, part, part_pos, part_rot, clearance=0.03):
     """Lowest tool height (m) over the tool goal `goal` at which `part`, held as it will sit
     at (part_pos, part_rot), passes `clearance` over the assembly."""
