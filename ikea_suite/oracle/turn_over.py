@@ -33,8 +33,19 @@ HAND_CLEARANCE = 0.015
 SLOT_OUT = 2.0
 # The hand comes in along its axis from this far (m) out, and leaves the same way.
 STANDOFF = 0.12
+# The hand passes this far (m) over the assembly on its way to the standoff.
+OVER_CLEARANCE = 0.08
+# A leg the hand, going in, has pushed this far (m) is given up: the hand followed the
+# leg it pushed and slid the chair 0.55 m out, beyond the reach the back needs
+# (dark_bar, white_round and frame_back_black_tall, tuning seeds 0 and 2).
+PUSHED = 0.02
 # Rad the hand rolls per control step (about 20 degrees a second at 20 Hz).
 ROLL_STEP = 0.02
+# A roll that stops this short (rad) of the half turn, the hand no longer following for
+# ROLL_WAIT control steps, is done: the Panda's last joint met its limit at 3.0 rad
+# (dark_bar, tuning seed 2), and set down 8 degrees from level the chair lands on its
+# legs, where let go from the lift height at the end of the step budget it fell on its side.
+ROLL_SLACK, ROLL_WAIT = 0.35, 20
 
 
 def _twist(table, pair):
@@ -199,6 +210,7 @@ class TurnOver:
       return False
     _, self._part, self._approach, self._point, self._rot, self._lift, self._sign = best
     self.step, self.failed, self._count, self._rolled = Step.OVER, False, 0, 0.0
+    self._roll_idle = 0
     return True
 
   @property
@@ -214,7 +226,7 @@ class TurnOver:
     standoff = self._point - STANDOFF * self._approach
     up = self._point + [0.0, 0.0, self._lift]
     if self.step == Step.OVER:
-      return np.array([*standoff[:2], self._route.safe_height()]), self._rot
+      return np.array([*standoff[:2], self._over_height()]), self._rot
     if self.step == Step.STANDOFF:
       return standoff, self._rot
     if self.step in (Step.IN, Step.CLOSE):   # to the leg where it stands now
@@ -249,6 +261,12 @@ class TurnOver:
                    max_speed=0.3 if self.step in (Step.IN, Step.LIFT, Step.LOWER) else 1.0)
     distance, angle = arm_motion.pose_error(robot, physics, arm, *goal)
     self._count += 1
+    if self.step == Step.IN and np.linalg.norm(targets.part_pose(
+        physics, env.task.furniture, self._part)[0][:2] - self._leg_at) > PUSHED:
+      self._give_up()   # pushing the chair along: out, and another handle
+      self.step, self._count = Step.OPEN, 0
+      self._set_out()
+      return action
     if self.step in (Step.LIFT, Step.ROLL, Step.LOWER) and not sensing.holding(
         physics, robot, arm, env.task.furniture, self._part):   # it slipped: let go, out
       self._give_up()
@@ -258,9 +276,12 @@ class TurnOver:
     near = distance < (0.005 if self.step in (Step.IN, Step.LOWER) else 0.02) and angle < (
         0.02 if self.step == Step.STANDOFF else 0.05)   # squared up before it goes in
     if self.step == Step.ROLL:
+      self._roll_idle = 0 if angle < 0.1 else self._roll_idle + 1
       if angle < 0.1:
         self._rolled = min(np.pi, self._rolled + ROLL_STEP)
       near = self._rolled >= np.pi and angle < 0.05
+      if not near and self._roll_idle > ROLL_WAIT and self._rolled >= np.pi - ROLL_SLACK:
+        self._rolled, near = self._measured_roll(), True   # set down as far as it turned
     if self.step in (Step.CLOSE, Step.OPEN):
       near = self._count >= (self._close_steps if self.step == Step.CLOSE else self._open_steps)
     if near:
@@ -268,10 +289,28 @@ class TurnOver:
     elif self._count > self._budget:
       if self.step not in (Step.OPEN, Step.OUT, Step.UP):
         self._give_up()
-      self.step = Step.DONE if self.step in (Step.OUT, Step.UP) else Step.OPEN
+      if self.step in (Step.LIFT, Step.ROLL):   # set down, not dropped from the lift height
+        self.step, self._rolled = Step.LOWER, self._measured_roll()
+      else:
+        self.step = Step.DONE if self.step in (Step.OUT, Step.UP) else Step.OPEN
+        self._set_out()
       self._count = 0
-      self._set_out()
     return action
+
+  def _measured_roll(self):
+    """How far (rad, 0 to pi) the hand has turned about the approach axis, the roll's way."""
+    _, rot = self._env.task.robot.tcp_pose(self._env.physics, self._arm)
+    turned = geometry.mat_to_axis_angle(rot @ self._rot.T) @ self._approach
+    return float(np.clip(self._sign * turned, 0.0, np.pi))
+
+  def _over_height(self):
+    """Tool height at which the hand, pointing sideways, passes OVER_CLEARANCE over the
+    assembly: at the open fingers' safe height its body reached 9 cm lower and struck the
+    upturned legs; the chair moved 3-21 cm in 52 of 226 such moves (tuning seeds 0-19)."""
+    env = self._env
+    below = arm_motion.hand_below_tool(env.task.robot, env.physics, self._arm, self._rot)
+    return max(self._route.safe_height(OVER_CLEARANCE),
+               self._route.assembly_top() + OVER_CLEARANCE + below)
 
   def _give_up(self):
     self._failed_handles.add((self._part, tuple(np.round(self._approach, 1))))
@@ -287,3 +326,6 @@ class TurnOver:
     self._count = 0
     if self.step == Step.OPEN:
       self._set_out()
+    if self.step == Step.IN:
+      self._leg_at = targets.part_pose(self._env.physics, self._env.task.furniture,
+                                       self._part)[0][:2].copy()
