@@ -226,8 +226,8 @@ def _turn_over_started(env):
 
 
 def test_the_hand_pointing_sideways_passes_over_the_upturned_legs():
-  # At the open fingers' safe height the sideways hand's body reached 9 cm lower, struck
-  # the upturned legs on its way to the standoff and shoved the chair 4-14 cm.
+  # At the open fingers' safe height the sideways hand's body reached 9 cm lower and
+  # struck the upturned legs on its way to the standoff: the chair moved 3-21 cm.
   env = _env()
   _legs_joined(env, 4)
   over = _turn_over_started(env)
@@ -240,20 +240,27 @@ def test_the_hand_pointing_sideways_passes_over_the_upturned_legs():
   assert goal[2] > route.safe_height(turn_over.OVER_CLEARANCE)
 
 
+def _stepped_to(env, step):
+  """A TurnOver of `env`'s chair (legs joined) run until it reaches `step`, with the servo
+  and action it runs on."""
+  over = _turn_over_started(env)
+  servo = arm_motion.PoseServo()
+  action = np.zeros(env.action_spec().shape)
+  for _ in range(600):
+    action[:6], action[6] = over(servo), over.gripper()
+    env.step(action)
+    if over.step == step:
+      break
+  assert over.step == step
+  return over, servo, action
+
+
 def test_a_hand_that_pushes_the_leg_it_goes_in_to_gives_that_handle_up():
   # Following the leg it pushed, the hand slid the chair 0.55 m out of reach (dark_bar,
   # tuning seed 0); now a leg pushed 2 cm ends the try.
   env = _env()
   _legs_joined(env, 4)
-  over = _turn_over_started(env)
-  servo = arm_motion.PoseServo()
-  action = np.zeros(env.action_spec().shape)
-  for _ in range(400):
-    action[:6], action[6] = over(servo), over.gripper()
-    env.step(action)
-    if over.step == turn_over.Step.IN:
-      break
-  assert over.step == turn_over.Step.IN
+  over, servo, _ = _stepped_to(env, turn_over.Step.IN)
   furniture, physics = env.task.furniture, env.physics
   for part in targets.root_group(env.task):   # the whole chair shoved 5 cm sideways
     pos, rot = targets.part_pose(physics, furniture, part)
@@ -263,27 +270,12 @@ def test_a_hand_that_pushes_the_leg_it_goes_in_to_gives_that_handle_up():
   assert over.step == turn_over.Step.OPEN and over.failed
 
 
-def _rolling(env):
-  """A TurnOver of `env`'s chair (legs joined) stepped until its roll begins, with the
-  servo and action it runs on."""
-  over = _turn_over_started(env)
-  servo = arm_motion.PoseServo()
-  action = np.zeros(env.action_spec().shape)
-  for _ in range(600):
-    action[:6], action[6] = over(servo), over.gripper()
-    env.step(action)
-    if over.step == turn_over.Step.ROLL:
-      break
-  assert over.step == turn_over.Step.ROLL
-  return over, servo, action
-
-
 def test_a_roll_the_hand_stops_following_near_the_half_turn_goes_on_to_set_the_chair_down():
   # The Panda's last joint met its limit at 3.0 rad (dark_bar, tuning seed 2): the roll
   # waited out its step budget and the chair was let go at the lift height, onto its side.
   env = _env()
   _legs_joined(env, 4)
-  over, servo, action = _rolling(env)
+  over, servo, action = _stepped_to(env, turn_over.Step.ROLL)
   over._rolled = np.pi - 0.5 * turn_over.ROLL_SLACK   # nearly over; the hand lags far behind
   over._roll_idle = turn_over.ROLL_WAIT
   action[:6], action[6] = over(servo), over.gripper()
@@ -293,7 +285,7 @@ def test_a_roll_the_hand_stops_following_near_the_half_turn_goes_on_to_set_the_c
 def test_a_lift_or_roll_out_of_time_sets_the_chair_down_before_letting_go():
   env = _env()
   _legs_joined(env, 4)
-  over, servo, action = _rolling(env)
+  over, servo, action = _stepped_to(env, turn_over.Step.ROLL)
   over._count = over._budget   # the step budget runs out mid-roll
   action[:6], action[6] = over(servo), over.gripper()
   assert over.step == turn_over.Step.LOWER and over.failed
