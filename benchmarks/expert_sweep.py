@@ -5,6 +5,7 @@
     python benchmarks/expert_sweep.py --robots sawyer --models table_four_leg_lack --arena work_table
     python benchmarks/expert_sweep.py --robots sawyer --graspable --num-models 129
     python benchmarks/expert_sweep.py --join sweep_5000.log sweep_5010.log
+    python benchmarks/expert_sweep.py --supported --seed-start 31000 --seeds 10
 
 For each robot, one row per model: the scale it runs at (unless --scale, the robot's
 WORK_SCALE, or for furniture too wide for its gripper there the smaller scale at which
@@ -100,6 +101,8 @@ def main(argv=None):
   parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
   parser.add_argument("--robots", nargs="+", default=["sawyer", "panda", "baxter", "jaco"])
   parser.add_argument("--models", nargs="+", default=None)
+  parser.add_argument("--supported", action="store_true",
+                      help="each robot's own supported list (experts.supported) instead of --models")
   parser.add_argument("--num-models", type=int, default=24)
   parser.add_argument("--seed-start", type=int, default=1000)
   parser.add_argument("--seeds", type=int, default=10)
@@ -128,9 +131,11 @@ def main(argv=None):
       print(f"total {sum(r['complete'] for r in mine)}/{len(mine)}")
     return 0
   from ikea_suite.experts import work_scale
-  models = args.models or default_models(args.num_models)
+  from ikea_suite import experts
   jobs = []
   for robot in args.robots:
+    models = (experts.supported(robot) if args.supported
+              else args.models or default_models(args.num_models))
     scales = {m: args.scale or work_scale.work_scale(robot, m) for m in models}
     mine = [m for m in models
             if not args.graspable or graspable(robot, m, scales[m], args.arena)]
