@@ -261,14 +261,11 @@ class TurnOver:
                    max_speed=0.3 if self.step in (Step.IN, Step.LIFT, Step.LOWER) else 1.0)
     distance, angle = arm_motion.pose_error(robot, physics, arm, *goal)
     self._count += 1
-    if self.step == Step.IN and np.linalg.norm(targets.part_pose(
-        physics, env.task.furniture, self._part)[0][:2] - self._leg_at) > PUSHED:
-      self._give_up()   # pushing the chair along: out, and another handle
-      self.step, self._count = Step.OPEN, 0
-      self._set_out()
-      return action
-    if self.step in (Step.LIFT, Step.ROLL, Step.LOWER) and not sensing.holding(
-        physics, robot, arm, env.task.furniture, self._part):   # it slipped: let go, out
+    pushed = self.step == Step.IN and np.linalg.norm(targets.part_pose(
+        physics, env.task.furniture, self._part)[0][:2] - self._leg_at) > PUSHED
+    slipped = self.step in (Step.LIFT, Step.ROLL, Step.LOWER) and not sensing.holding(
+        physics, robot, arm, env.task.furniture, self._part)
+    if pushed or slipped:   # pushing the chair along, or it slipped: let go, out
       self._give_up()
       self.step, self._count = Step.OPEN, 0
       self._set_out()
