@@ -12,13 +12,23 @@ def _env(furniture, robot):
   return env
 
 
-def test_sawyer_tips_open_wider_than_they_close():
-  env = _env("stool_round_frosta", "sawyer")
-  closed = feasibility.finger_gap(env.physics, env.task.robot, 0, 1.0)
-  opened = feasibility.finger_gap(env.physics, env.task.robot, 0, 0.0)
+def _gaps(robot):
+  env = _env("stool_round_frosta", robot)
+  return tuple(feasibility.finger_gap(env.physics, env.task.robot, 0, f) for f in (1.0, 0.0))
+
+
+def test_rethink_tips_open_wider_than_they_close():
+  closed, opened = _gaps("baxter")   # fingers in the sheet's slot
   # Rethink's fact sheet: 2 x 32.3 mm of finger travel between the joint limits.
   assert opened - closed == pytest.approx(2 * (0.020833 + 0.0115), abs=0.002)
   assert 0.010 < closed < 0.020   # the fingertips stop short of touching
+
+
+def test_the_sawyer_fingers_one_slot_in_meet_when_closed():
+  # grippers.RETHINK_SLOT_1: each finger 9.5 mm nearer the centre; travel ends where they meet.
+  closed, opened = _gaps("sawyer")
+  assert 0.0 <= closed < 0.001
+  assert opened == pytest.approx(_gaps("baxter")[1] - 2 * 0.0095, abs=0.0005)
 
 
 def test_slender_legs_fit_and_a_flat_shelf_does_not():
@@ -30,8 +40,9 @@ def test_slender_legs_fit_and_a_flat_shelf_does_not():
   assert "wider than the open" in str(problems[0])
 
 
-def test_legs_thinner_than_the_closed_sawyer_fingers_are_named():
-  problems = feasibility.grasp_problems(_env("stool_round_black_metal", "sawyer"))
+def test_legs_thinner_than_the_closed_rethink_fingers_are_named():
+  problems = feasibility.grasp_problems(_env("stool_round_black_metal", "baxter"))
   assert sorted(p.part for p in problems) == ["leg0", "leg1", "leg2", "leg3"]
   assert "narrower than the closed" in str(problems[0])
   assert feasibility.grasp_problems(_env("stool_round_black_metal", "panda")) == []
+  assert feasibility.grasp_problems(_env("stool_round_black_metal", "sawyer")) == []

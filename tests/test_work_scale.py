@@ -27,18 +27,20 @@ def test_fit_scale_is_the_largest_at_which_every_loose_part_fits():
     assert (feasibility.grasp_problems(env) == []) == fits
 
 
-def test_a_racked_plank_bench_fits_the_panda_at_the_work_scale_and_never_the_sawyer():
+def test_a_racked_plank_bench_fits_fingers_that_close_fully_and_never_the_baxter():
   # Lying flat, its 300-330 mm ends fitted the open fingers only at about 0.2. Racked,
   # its ends and its 10 mm stretcher are taken across their thickness: the Panda's
-  # fingers close fully, the Sawyer's stop 14 mm apart.
-  assert work_scale.fit_scale("panda", "bench_plank_pine") == 0.5
-  assert work_scale.work_scale("panda", "bench_plank_pine") == 0.5
-  assert work_scale.fit_scale("sawyer", "bench_plank_pine") is None
+  # fingers close fully, and so do the Sawyer's one slot in; the Baxter's, in the
+  # sheet's slot, stop 14 mm apart.
+  for robot in ("panda", "sawyer"):
+    assert work_scale.fit_scale(robot, "bench_plank_pine") == 0.5
+    assert work_scale.work_scale(robot, "bench_plank_pine") == 0.5
+  assert work_scale.fit_scale("baxter", "bench_plank_pine") is None
 
 
 def test_no_scale_fits_a_chair_seat_and_a_fitting_model_keeps_the_work_scale():
-  assert work_scale.fit_scale("sawyer", "chair_back_ivar") is None
-  assert work_scale.fit_scale("sawyer", "stool_round_frosta") == 0.5
+  assert work_scale.fit_scale("baxter", "chair_back_ivar") is None
+  assert work_scale.fit_scale("baxter", "stool_round_frosta") == 0.5
 
 
 def test_a_bench_end_is_held_away_from_its_connectors_below_the_work_scale():

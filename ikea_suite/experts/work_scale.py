@@ -18,11 +18,14 @@ from ikea_suite.props import scaling
 # every other model is assembled at WORK_SCALE. Measured for each robot with the panel
 # rack (tasks/panel_placement.py), which stands box walls, bench ends, bookcase and
 # cabinet sides and headboards upright: they are taken across their thickness, so the
-# boxes and plank benches now fit both grippers at 0.5. The Sawyer's closed fingertips
-# (14 mm apart) do not squeeze a wall 4-10 mm thick at any scale, so no model fits it
-# at a scale below 0.5 (those that fit at all fit at 0.5).
+# boxes and plank benches now fit both grippers at 0.5. The Sawyer's fingers, one slot
+# in (grippers.RETHINK_SLOT_1, eighteenth session), meet when closed and open to 60 mm:
+# 56 models fit it at 0.5, the slatted beds at 0.33 and the CD tower at 0.24.
 SMALL_SCALES = {
-    "sawyer": {},
+    "sawyer": {**{f"bed_slatted_{v}": 0.33 for v in (
+                   "day_black", "junior_pine", "kids_birch_open", "kids_dark_open",
+                   "kids_white", "toddler_white")},
+               "bookcase_shelf_unit_cd_tower": 0.24},
     "panda": {**{f"bed_slatted_{v}": 0.45 for v in (
                   "day_black", "junior_pine", "kids_birch_open", "kids_dark_open",
                   "kids_white", "toddler_white")},

@@ -12,6 +12,7 @@ import dataclasses
 
 import numpy as np
 
+from ikea_suite import geometry
 from ikea_suite import physics_settings
 from ikea_suite.robots import robot_facts
 
@@ -67,12 +68,28 @@ class GripperSpec:
   pad_bodies: tuple = ()
   # Frame of the gripper root in the arm's hand body (w x y z); None: the sheet's own.
   mount_quat: tuple = None
+  # How far (m) each finger is mounted nearer the centre than in the sheet (a finger
+  # slot further in); its travel then ends at the closed value, where the two meet.
+  slot_inward: float = 0.0
 
 
+# The Rethink electric gripper with its fingers in the fact sheet's slot: Rethink's robot
+# descriptions' default, slot 2 (baxter_description/urdf/left_end_effector.urdf.xacro:
+# l_finger_slot='2'), where the closed fingertips stay 14 mm apart at scale 0.5.
 RETHINK = GripperSpec(
     facts="rethink_gripper",
     fingers={"r_finger_joint": (-0.020833, 0.0115), "l_finger_joint": (0.020833, -0.0115)},
     pad_bodies=("l_finger", "l_finger_tip", "r_finger", "r_finger_tip"))
+
+# The same gripper with its fingers one slot in, slot 1. It takes fingers in four slots
+# 9.5 mm apart per finger (the finger offset is (slot - 1) x 9.5 mm - 11 mm in the gripper
+# xacro of Rethink's descriptions, as carried e.g. by ll4ma_robots_description's baxter
+# gripper.xacro). In slot 1 the fingers meet when closed and open to 60 mm, so they
+# squeeze the 4-10 mm walls and stretchers that slot 2's 14 mm cannot. Closed values: the
+# sheet's 0.0115 m less the 2.5 mm at which the pads, 9.5 mm further in each, touch.
+RETHINK_SLOT_1 = dataclasses.replace(
+    RETHINK, fingers={"r_finger_joint": (-0.020833, 0.009), "l_finger_joint": (0.020833, -0.009)},
+    slot_inward=0.0095)
 
 FRANKA_HAND = GripperSpec(
     facts="panda_gripper",
@@ -111,6 +128,8 @@ def build(hand_body, spec, prefix):
   root = facts["bodies"][0]
   elements = robot_facts.add_tree(hand_body, facts, name_prefix=prefix, pos=[0, 0, 0],
                                   quat=spec.mount_quat or root.get("quat", [1, 0, 0, 0]))
+  if spec.slot_inward:
+    _mount_fingers_inward(hand_body.root, spec, prefix)
   pad_geoms = []
   for body_name in spec.pad_bodies:
     for geom in elements[body_name].find_all("geom", immediate_children_only=True):
@@ -139,6 +158,18 @@ def build(hand_body, spec, prefix):
                       tcp_site=mjcf_root.find("site", prefix + spec.tcp_site),
                       root_body=elements[root["name"]], squeeze_qpos=np.array(squeeze),
                       pad_geoms=pad_geoms)
+
+
+def _mount_fingers_inward(mjcf_root, spec, prefix):
+  """Moves each finger's body `spec.slot_inward` towards the other along its closing
+  direction, and ends its travel at the closed value (where the fingers meet)."""
+  for joint_name, (open_q, closed_q) in spec.fingers.items():
+    joint = mjcf_root.find("joint", prefix + joint_name)
+    body = joint.parent
+    rotation = geometry.quat_to_mat(body.quat if body.quat is not None else [1, 0, 0, 0])
+    closing = np.sign(closed_q - open_q) * rotation @ np.asarray(joint.axis, dtype=float)
+    body.pos = np.asarray(body.pos, dtype=float) + spec.slot_inward * closing
+    joint.range = sorted([open_q, closed_q])
 
 
 def _couple(mjcf_root, joints, values):

@@ -30,6 +30,8 @@ class Sawyer(manipulator.Manipulator):
 
   def _build_body(self, name):
     root, elements, limits = robot_facts.build_model(name, "sawyer", root="right_arm_base_link")
+    # Fingers in the gripper's narrowest slot: they close on the thin walls, stretchers and
+    # racked panels of boxes, benches and desks (grippers.RETHINK_SLOT_1).
     return root, [manipulator.single_arm(
-        root, elements, limits, JOINTS, grippers.RETHINK, _SEED, home_tcp=(0.45, 0.0, 0.35),
+        root, elements, limits, JOINTS, grippers.RETHINK_SLOT_1, _SEED, home_tcp=(0.45, 0.0, 0.35),
         workspace_box=[[-0.5, -0.9, 0.005], [1.0, 0.9, 1.0]])]
