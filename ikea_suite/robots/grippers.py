@@ -75,7 +75,7 @@ class GripperSpec:
 
 # The Rethink electric gripper with its fingers in the fact sheet's slot: Rethink's robot
 # descriptions' default, slot 2 (baxter_description/urdf/left_end_effector.urdf.xacro:
-# l_finger_slot='2'), where the closed fingertips stay 14 mm apart at scale 0.5.
+# l_finger_slot='2'), where the closed fingertips stay 14 mm apart.
 RETHINK = GripperSpec(
     facts="rethink_gripper",
     fingers={"r_finger_joint": (-0.020833, 0.0115), "l_finger_joint": (0.020833, -0.0115)},
