@@ -21,14 +21,13 @@ from ikea_suite.props import scaling
 # boxes and plank benches now fit both grippers at 0.5. The Sawyer's fingers, one slot
 # in (grippers.RETHINK_SLOT_1, eighteenth session), meet when closed and open to 60 mm:
 # 56 models fit it at 0.5, the slatted beds at 0.33 and the CD tower at 0.24.
+_SLATTED_BEDS = tuple(f"bed_slatted_{v}" for v in (
+    "day_black", "junior_pine", "kids_birch_open", "kids_dark_open", "kids_white",
+    "toddler_white"))
 SMALL_SCALES = {
-    "sawyer": {**{f"bed_slatted_{v}": 0.33 for v in (
-                   "day_black", "junior_pine", "kids_birch_open", "kids_dark_open",
-                   "kids_white", "toddler_white")},
+    "sawyer": {**dict.fromkeys(_SLATTED_BEDS, 0.33),
                "bookcase_shelf_unit_cd_tower": 0.24},
-    "panda": {**{f"bed_slatted_{v}": 0.45 for v in (
-                  "day_black", "junior_pine", "kids_birch_open", "kids_dark_open",
-                  "kids_white", "toddler_white")},
+    "panda": {**dict.fromkeys(_SLATTED_BEDS, 0.45),
               **{f"bookcase_shelf_unit_{v}": 0.24 for v in (
                   "billy", "w40_h106_white", "w40_h202_oak", "w60_h140_pine",
                   "w60_h80_open", "w80_h106_birch", "w80_h106_white", "w80_h202_black",
