@@ -40,6 +40,12 @@ HOLD_SHORT_OF_CLOSED = 0.05
 # as for a leg, one finger pushed a 6 mm box wall over in its slot, the hand held it
 # askew on its top edge, and it pivoted out of the grip during the carry.
 HANGING_SPEED, EDGE_GATE = 0.3, 0.0015
+# The open fingers pass 2 cm either side of a racked panel (Sawyer): the descent onto its
+# top edge starts only within EDGE_REACH (m) of the point above it, and goes down at
+# HANGING_SPEED. Started 2 cm off (the REACH gate) with the tool lagging its target, and
+# at full speed, a fingertip landed on the edge and pushed the panel out of the rack
+# (Sawyer, desk_trestle_w100_birch tuning seeds 4, 14, 17, 18).
+EDGE_REACH = 0.006
 
 
 class Phase(enum.Enum):
@@ -196,8 +202,10 @@ class ArmAssemblyController:
       goal = point + [0.0, 0.0, self._hover] if phase == Phase.REACH else point
       route = self._clearance
       waypoint = route.arc_waypoint(route.over_assembly(goal)) if phase == Phase.REACH else goal
+      edge = self._grasps.by_top_edge(moving)
       poses[:] = self._servo(robot, physics, arm, waypoint, rot,
-                             gain=1.0 if phase == Phase.REACH else DESCEND_GAIN)
+                             gain=1.0 if phase == Phase.REACH else DESCEND_GAIN,
+                             max_speed=HANGING_SPEED if edge and phase == Phase.DESCEND else 1.0)
       distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
       settled = self._settled()
       self._stalled += 1
@@ -207,12 +215,12 @@ class ArmAssemblyController:
         self._unwind()   # home before the next part
         if len(self._unreachable) >= len(task.furniture.parts):
           self._unreachable = set()
-      elif phase == Phase.REACH and distance < 0.02 and angle < 0.05:
+      elif phase == Phase.REACH and distance < (EDGE_REACH if edge else 0.02) and angle < 0.05:
         self.phase, self._stalled = Phase.DESCEND, 0
       elif (phase == Phase.DESCEND and angle < 0.05 and settled and distance < (
-          EDGE_GATE if self._grasps.by_top_edge(moving) else 0.006)):
+          EDGE_GATE if edge else 0.006)):
         self.phase, self._counter, self._stalled = Phase.CLOSE, 0, 0
-        self._grasp, self._hanging = (goal, rot), self._grasps.by_top_edge(moving)
+        self._grasp, self._hanging = (goal, rot), edge
     elif phase == Phase.CLOSE:
       poses[:] = self._servo(robot, physics, arm, *self._grasp)
       self._counter += 1
@@ -272,7 +280,7 @@ class ArmAssemblyController:
         high = self._carry_height.waypoint(goal, moving, part_pos + offset * side, part_rot,
                                            self._hanging)
         poses[:] = self._servo(robot, physics, arm, self._clearance.arc_waypoint(high), goal[1],
-                               max_turn=0.3)   # turning slowly, a held part does not swing out
+                               max_turn=arm_motion.CARRY_TURN)
         distance, angle = arm_motion.pose_error(robot, physics, arm, high, goal[1])
         self._carrying = not (distance < 0.03 and angle < 0.05)
         if not self._carrying:

@@ -252,6 +252,10 @@ def hand_below_tool(robot, physics, arm, rot):
   return hand_reach(robot, physics, arm, rot, np.array([0.0, 0.0, -1.0]))
 
 
+# The carry turns a held part at this fraction of the arm's top turning speed: turning
+# slowly, a held part does not swing out.
+CARRY_TURN = 0.3
+
 # Metres from the tool centre back along its axis to the wrist, as the planners reckon it.
 WRIST_BACK = 0.25
 
@@ -300,6 +304,50 @@ def _clip_norm(vector, limit):
 def pose_error(robot, physics, arm, goal_pos, goal_rot):
   pos, rot = robot.tcp_pose(physics, arm)
   return np.linalg.norm(goal_pos - pos), np.linalg.norm(geometry.mat_to_axis_angle(goal_rot @ rot.T))
+
+
+def servo_path_end(robot, arm, q, goal_pos, goal_rot, dt, max_turn=1.0, max_steps=200,
+                   near=0.02, max_lag=0.1):
+  """(joints, metres and radians from the goal) at which one arm stops, from joints `q`
+  (an arm_qpos vector), as PoseServo (gain 1, turning at `max_turn`) brings its tool to
+  the world pose (goal_pos, goal_rot) on the arc around the base (arc_waypoint): its
+  target moves and turns as the robot's task-space target does (at most `max_lag` m
+  ahead of the tool) and the joints follow the differential IK step by step (control
+  steps of `dt` s), on the IK's own model; nothing collides, nothing lags.
+
+  A converged IK solve (Manipulator.reach_check) finds a pose by whatever path: it
+  reached a trestle's mate from a wrist 0.3 rad short of its limit by turning it back,
+  where the carry, turning the tool the short way round as the arm swung, drove it into
+  that limit and stalled 15 cm short (Sawyer, desk_trestle_w120_white tuning seed 1).
+  """
+  ik = robot.ik
+  base_pos, base_rot = robot.base_pose
+  heading = np.arctan2(base_rot[1, 0], base_rot[0, 0])
+  step = robot.max_translation
+
+  def tool(q):
+    pos, rot = ik.tcp_poses(q)[arm]
+    return base_rot @ pos + base_pos, base_rot @ rot
+
+  q, failures = np.array(q, dtype=float), ik.failures
+  target_pos, target_rot = tool(q)
+  for _ in range(max_steps + 1):
+    pos, rot = tool(q)
+    distance = float(np.linalg.norm(goal_pos - pos))
+    angle = float(np.linalg.norm(geometry.mat_to_axis_angle(goal_rot @ rot.T)))
+    if distance < near and angle < 0.05:
+      break
+    move = (arc_waypoint(base_pos, pos, goal_pos, heading=heading) - target_pos) / step
+    target_pos = target_pos + move / max(1.0, np.abs(move).max()) * step
+    target_pos = pos + _clip_norm(target_pos - pos, max_lag)
+    turn = geometry.mat_to_axis_angle(goal_rot @ target_rot.T) / robot.max_rotation
+    turn *= max_turn / max(max_turn, np.abs(turn).max())
+    target_rot = geometry.axis_angle_to_mat(turn * robot.max_rotation) @ target_rot
+    goals = list(ik.tcp_poses(q))
+    goals[arm] = (base_rot.T @ (target_pos - base_pos), base_rot.T @ target_rot)
+    q = ik.step(q, goals, dt)
+  ik.failures = failures   # it counts the arm's own steps, not these
+  return q, distance, angle
 
 
 def arc_waypoint(base, pos, goal, heading=0.0, max_turn=0.25, max_step=0.1):

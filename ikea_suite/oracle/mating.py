@@ -10,9 +10,33 @@ from ikea_suite.tasks import planner
 _ANY_TWIST_GRID = np.radians(np.arange(0, 360, 45))
 
 
-def reach_cost(robot, physics, arm, goal_pos, goal_rot):
-  """IK miss, joint travel and joints near their limits of a tool pose: lower is easier."""
-  miss, margin, travel = robot.reach_check(physics, arm, goal_pos, goal_rot)
+def winds_past_a_turn(robot, arm):
+  """Whether a joint of the arm turns more than a full turn between its limits (the
+  Sawyer's wrist, +-4.71 rad): a tool pose then has two angles of that joint, and which
+  one the servo ends at depends on its path, which a converged IK solve does not follow."""
+  low, high = robot.ik.limits
+  index = robot.ik.qpos_index[robot.ik_joint_indices(arm)]
+  span = high[index] - low[index]
+  return bool(np.any(np.isfinite(span) & (span > 2.0 * np.pi)))
+
+
+def reach_cost(robot, physics, arm, goal_pos, goal_rot, start=None, servo=None):
+  """IK miss, joint travel and joints near their limits of a tool pose, the IK solved
+  from the present joints or `start` (an arm_qpos vector): lower is easier.
+
+  With `servo` (control step in s, max_turn) and an arm that winds_past_a_turn, the IK
+  starts where the servo's own path from there stops (arm_motion.servo_path_end): from
+  home the IK reached a racked trestle's mate turning the wrist back from near its
+  limit, where the carry drove it into that limit and stalled 15 cm short (Sawyer,
+  desk_trestle_w120_white tuning seed 1).
+  """
+  if servo is not None and winds_past_a_turn(robot, arm):
+    begin = robot.arm_qpos(physics) if start is None else start
+    start = arm_motion.servo_path_end(robot, arm, begin, goal_pos, goal_rot, *servo)[0]
+    miss, margin, travel = robot.reach_check(physics, arm, goal_pos, goal_rot, start=start)
+    travel += float(np.linalg.norm(start - begin))
+  else:
+    miss, margin, travel = robot.reach_check(physics, arm, goal_pos, goal_rot, start=start)
   return miss + 0.02 * travel + np.maximum(0.0, 0.3 - margin).sum()
 
 
@@ -105,11 +129,12 @@ def hand_in_the_way(env, arm, tool_pos, tool_rot):
   return overlap
 
 
-def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None):
+def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None, start=None):
   """(score, pair, twist) for the held part: the mate and twist the arm reaches best.
 
   Each candidate's pre-insertion tool pose (`approach` m back from the mate along its
-  side) is solved by IK; misses, joint travel, joints near their limits, a wrist
+  side) is solved by IK from `start` (the present joints by default), along the carry's
+  servo path (reach_cost); misses, joint travel, joints near their limits, a wrist
   cramped beside the base and a hand that runs into the parts already standing on the
   root (hand_in_the_way: a centimetre of it weighs as 0.1 of reach cost, so a hand
   from outside wins wherever the arm reaches it) cost. (pair, twist) in `failed_plans`
@@ -137,7 +162,8 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None):
           env, arm, moving, part_pos + approach * side, part_rot, grip)
       cramped = arm_motion.cramped(base_pos, goal_pos, goal_rot[:, 2])
       in_the_way = hand_in_the_way(env, arm, goal_pos, goal_rot)
-      score = (reach_cost(robot, physics, arm, goal_pos, goal_rot) + 2.0 * cramped
+      score = (reach_cost(robot, physics, arm, goal_pos, goal_rot, start, servo=(
+          env.control_timestep(), arm_motion.CARRY_TURN)) + 2.0 * cramped
                + 10.0 * in_the_way + nearby * np.linalg.norm(goal_pos[:2] - part_xy)
                + 5.0 * (off_design(env, moving, part_pos, part_rot, pair)
                         > task.thresholds.distance))
@@ -150,17 +176,27 @@ def choose_grasp_sign(env, arm, moving, grasp_pose, hover, approach, failed_plan
                       stalled_grasps=()):
   """Which of the two symmetric top-down grasps of `moving` (grasp_pose(part, sign) -> tool
   pose) the wrist reaches best, `hover` m above it, and leaves the easier mating; a
-  (part, sign) in `stalled_grasps` goes last."""
+  (part, sign) in `stalled_grasps` goes last.
+
+  For an arm that winds_past_a_turn both are judged along the servo's path (reach_cost),
+  the mating from where the reach stops above the grasp, not from the present pose: a
+  wrist that took a racked trestle near the end of its range turned into its limit on
+  the way to the mate, which from home the IK reached turning it the other way (Sawyer,
+  desk_trestle_w100_birch tuning seed 3, w120_white seed 1)."""
   physics, furniture, robot = env.physics, env.task.furniture, env.task.robot
   part_pos, part_rot = targets.part_pose(physics, furniture, moving)
   best = None
   for sign in (1.0, -1.0):
     point, rot = grasp_pose(moving, sign)
     grip = (part_rot.T @ (point - part_pos), part_rot.T @ rot)
-    plan = plan_mating(env, arm, moving, approach, failed_plans, grip)
+    above, dt = point + [0.0, 0.0, hover], env.control_timestep()
+    start = None   # where the reach stops
+    if winds_past_a_turn(robot, arm):
+      start = arm_motion.servo_path_end(robot, arm, robot.arm_qpos(physics), above, rot, dt)[0]
+    plan = plan_mating(env, arm, moving, approach, failed_plans, grip, start)
     # A grasp the last wrist joint cannot turn to stalls the reach; after a stall the other
     # grasp goes first (the Panda's last joint met its limit again from the same pose).
-    score = reach_cost(robot, physics, arm, point + [0.0, 0.0, hover], rot) + (
+    score = reach_cost(robot, physics, arm, above, rot, servo=(dt, 1.0)) + (
         10.0 if plan is None else plan[0]) + 5.0 * ((moving, sign) in stalled_grasps)
     if best is None or score < best[0]:
       best = (score, sign)

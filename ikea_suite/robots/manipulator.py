@@ -321,15 +321,15 @@ class Manipulator(work_area.WorkArea, base.Robot):
     """Per arm, the MuJoCo body ids of its gripper's finger bodies (set after compile)."""
     return [ids.copy() for ids in self._finger_bodies]
 
-  def reach_check(self, physics, arm, goal_pos, goal_rot, iterations=40):
-    """How well `arm` can put its tool at a world pose: IK solved from the present joints,
-    the other arms holding their poses; nothing moves.
+  def reach_check(self, physics, arm, goal_pos, goal_rot, iterations=40, start=None):
+    """How well `arm` can put its tool at a world pose: IK solved from the present joints
+    (or from `start`, an arm_qpos vector), the other arms holding their poses; nothing moves.
 
     Returns:
       (miss: position error in m plus 0.2 m per rad of orientation error, per-joint
       margin to the limits the IK keeps in (IK_WORKING_RANGES) in rad, joint travel in rad).
     """
-    q = physics.data.qpos[self._ik_to_qpos].copy()
+    q = (physics.data.qpos[self._ik_to_qpos] if start is None else np.asarray(start)).copy()
     targets = list(self._ik.tcp_poses(q))
     to_base = self._base_rot.T
     targets[arm] = (to_base @ (goal_pos - self._base_pos), to_base @ goal_rot)
