@@ -2,10 +2,13 @@
 batched-substep step gives exactly what composer's own step gives."""
 
 import numpy as np
+import pytest
 from dm_control import composer
+from dm_control.rl import control
 from dm_control.composer.observation import updater as updater_lib
 
 import ikea_suite
+from ikea_suite import environment
 
 FURNITURE = "table_four_leg_lack"
 
@@ -33,10 +36,10 @@ def test_default_observables_are_read_directly_and_others_through_the_buffers():
   assert env._direct_observables() is None
 
 
-def _pair(configure=None):
+def _pair(configure=None, robot="cursor"):
   """An ikea_suite environment and a plain composer one on an identically built task."""
-  ours = ikea_suite.load(FURNITURE, seed=3)
-  twin = ikea_suite.load(FURNITURE, seed=3)
+  ours = ikea_suite.load(FURNITURE, robot, seed=3)
+  twin = ikea_suite.load(FURNITURE, robot, seed=3)
   for env in (ours, twin):
     if configure:
       configure(env.task)
@@ -74,6 +77,38 @@ def test_batched_substeps_match_composers_step():
   ours, plain = _pair()
   actions = _actions(ours)
   _assert_same(_rollout(ours, actions), _rollout(plain, actions))
+
+
+def test_batched_substeps_match_composers_step_with_an_arm():
+  ours, plain = _pair(robot="sawyer")
+  actions = _actions(ours)
+  _assert_same(_rollout(ours, actions), _rollout(plain, actions))
+
+
+def test_the_physics_internals_advance_relies_on_exist():
+  env = ikea_suite.load(FURNITURE, seed=0)
+  env.reset()
+  physics = env.physics
+  assert physics.legacy_step is True
+  assert physics._warnings_cause_exception is True
+  with physics.suppress_physics_errors():
+    assert physics._warnings_cause_exception is False
+  handles = environment.raw_handles(physics)
+  assert handles[0] is physics.model.ptr and handles[1] is physics.data.ptr
+  assert handles[2].base is not None   # a view: the counts MuJoCo writes, not a copy
+
+
+def test_advance_steps_as_physics_step_does_and_raises_on_new_warnings():
+  first, second = (ikea_suite.load(FURNITURE, seed=0) for _ in range(2))
+  for env in (first, second):
+    env.reset()
+  environment.advance(first.physics, 7, environment.raw_handles(first.physics))
+  second.physics.step(7)
+  np.testing.assert_array_equal(first.physics.data.qpos, second.physics.data.qpos)
+  np.testing.assert_array_equal(first.physics.data.xpos, second.physics.data.xpos)
+  first.physics.data.qvel[0] = np.nan
+  with pytest.raises(control.PhysicsError, match=r"Warning\(s\) raised: .*BADQ"):
+    environment.advance(first.physics, 2, environment.raw_handles(first.physics))
 
 
 def test_a_delayed_observable_matches_composers_step():

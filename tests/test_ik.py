@@ -60,3 +60,23 @@ def test_step_gives_minks_joint_vector(robot):
     np.testing.assert_array_equal(ik.step(q, flat, 0.05), ik.step(q, targets, 0.05))
     np.testing.assert_allclose(ik.step_mink(q, flat, 0.05), ik.step(q, flat, 0.05), atol=1e-6)
   assert ik.failures == 0
+
+
+def test_an_endless_joint_wound_whole_turns_steps_as_it_does_unwound():
+  """The posture target of an endless joint follows it round by whole turns (the Jaco's
+  wrist wound to 16 rad): wound two turns, a joint steps exactly as it does from the same
+  angle unwound, and back again after, however often the winding changes."""
+  ik = registry.get("jaco").factory().ik
+  ik.set_posture(ik.clip_to_limits(np.zeros(ik.model.nq)))
+  endless = np.flatnonzero(~ik.model.jnt_limited.astype(bool)
+                           & (ik.model.jnt_type == 3))   # hinges
+  assert endless.size
+  rng = np.random.default_rng(0)
+  q = ik.clip_to_limits(rng.uniform(-0.5, 0.5, ik.model.nq))
+  targets = ik.tcp_poses(q + rng.normal(scale=0.05, size=len(q)))
+  unwound = ik.step(q.copy(), targets, 0.05) - q
+  for turns in (2, -1, 2, 0):
+    wound = q.copy()
+    wound[ik.model.jnt_qposadr[endless[0]]] += 2 * np.pi * turns
+    np.testing.assert_allclose(ik.step(wound.copy(), targets, 0.05) - wound, unwound, atol=1e-9)
+

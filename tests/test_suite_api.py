@@ -58,6 +58,14 @@ def test_bad_actions_raise_action_error(env, action, message):
     env.step(action)
 
 
+def test_huge_finite_actions_are_clipped_not_refused(env):
+  """Entries whose sum overflows are still finite: clipped to the spec like any other."""
+  env.reset()
+  action = np.zeros(15)
+  action[:2] = 1e308, 1e308
+  assert env.step(action).mid()
+
+
 def test_thresholds_are_options():
   env = ikea_suite.load(seed=0, distance_threshold=0.05, up_threshold=0.9, forward_threshold=0.8)
   thresholds = env.task.thresholds

@@ -110,8 +110,9 @@ class FurnitureObservables(composer.Observables):
 
   @composer.observable
   def part_positions(self):
-    return observable.Generic(lambda physics: physics.data.xpos[self._entity.body_ids].copy())
+    # Indexing by the id array copies: the value does not change as the physics steps.
+    return observable.Generic(lambda physics: physics.data.xpos[self._entity.body_ids])
 
   @composer.observable
   def part_quaternions(self):
-    return observable.Generic(lambda physics: physics.data.xquat[self._entity.body_ids].copy())
+    return observable.Generic(lambda physics: physics.data.xquat[self._entity.body_ids])

@@ -61,16 +61,30 @@ class TaskSpaceTargets:
   """Tool-centre-point targets (world frame) of every arm, updated from actions.
 
   A delta target is kept at most `max_lag` metres from the measured tool so
-  that pushing against an obstacle cannot wind it up.
+  that pushing against an obstacle cannot wind it up. Positions are held as
+  Python floats, the form the per-step update and DifferentialIK.step work in:
+  with three numbers per arm each numpy call would cost more than its
+  arithmetic. Rotations stay numpy products, whose rounding (BLAS's, not
+  Python's) the experts' measured episodes were run with.
   """
 
   def __init__(self, num_arms, max_translation, max_rotation, workspace, max_lag=0.1):
-    self.pos = np.zeros((num_arms, 3))
-    self.rot = np.tile(np.eye(3), (num_arms, 1, 1))
+    self._pos = [[0.0, 0.0, 0.0] for _ in range(num_arms)]
+    self._rot = np.tile(np.eye(3), (num_arms, 1, 1))
     self._max_translation, self._max_rotation = max_translation, max_rotation
     self._workspace = np.asarray(workspace, dtype=float)   # (num_arms, 2, 3) world boxes
     self._low, self._high = self._workspace[:, 0].tolist(), self._workspace[:, 1].tolist()
     self._max_lag = max_lag
+
+  @property
+  def pos(self):
+    """(arms, 3) target positions (a copy)."""
+    return np.array(self._pos)
+
+  @property
+  def rot(self):
+    """(arms, 3, 3) target rotations (a copy)."""
+    return self._rot.copy()
 
   @property
   def max_translation(self):
@@ -84,36 +98,36 @@ class TaskSpaceTargets:
 
   def reset(self, poses):
     for i, (pos, rot) in enumerate(poses):
-      self.pos[i], self.rot[i] = pos, rot
+      self._set(i, pos, rot)
+
+  def _set(self, i, pos, rot):
+    self._pos[i] = np.asarray(pos, dtype=float).reshape(3).tolist()
+    self._rot[i] = rot
 
   def apply_deltas(self, actions, tcp_pos):
-    """Moves every arm's target by its delta action; actions (arms, >= 6), tcp_pos (arms, 3).
-
-    Python floats on purpose: with three numbers per arm each numpy call would cost more.
-    """
-    moves, tcps, low, high = actions[:, :6].tolist(), tcp_pos.tolist(), self._low, self._high
-    for i, (p, move, tcp) in enumerate(zip(self.pos.tolist(), moves, tcps)):
-      target = [p[k] + move[k] * self._max_translation for k in range(3)]
-      lag = [target[k] - tcp[k] for k in range(3)]
+    """Moves every arm's target by its delta action; actions (arms, >= 6), tcp_pos (arms, 3)."""
+    step, turn, low, high = self._max_translation, self._max_rotation, self._low, self._high
+    for i, (move, tcp) in enumerate(zip(actions[:, :6].tolist(), tcp_pos.tolist())):
+      p = self._pos[i]
+      target = [p[0] + move[0] * step, p[1] + move[1] * step, p[2] + move[2] * step]
+      lag = [target[0] - tcp[0], target[1] - tcp[1], target[2] - tcp[2]]
       distance = math.sqrt(lag[0] * lag[0] + lag[1] * lag[1] + lag[2] * lag[2])
       if distance > self._max_lag:
         target = [tcp[k] + lag[k] * (self._max_lag / distance) for k in range(3)]
-      self.pos[i] = [min(max(target[k], low[i][k]), high[i][k]) for k in range(3)]
-      x, y, z = (v * self._max_rotation for v in move[3:])
+      self._pos[i] = [min(max(target[k], low[i][k]), high[i][k]) for k in range(3)]
+      x, y, z = move[3] * turn, move[4] * turn, move[5] * turn
       if x or y or z:
-        self.rot[i] = _axis_angle_rows(x, y, z) @ self.rot[i]
+        self._rot[i] = _axis_angle_rows(x, y, z) @ self._rot[i]
 
   def in_frame(self, origin, rotation):
-    """Every arm's target in the frame at `origin` turned by `rotation` (world frame):
-    [(position (3 floats), rotation (9 floats, row-major))], as DifferentialIK.step takes.
-
-    Python floats on purpose: with a 3x3 product per arm numpy calls would cost more.
-    """
-    r0, r1, r2, r3, r4, r5, r6, r7, r8 = np.asarray(rotation, dtype=float).reshape(9).tolist()
-    ox, oy, oz = np.asarray(origin, dtype=float).tolist()
+    """Every arm's target in the frame at `origin` (3 floats) turned by `rotation` (9
+    floats, row-major), both world frame: [(position (3 floats), rotation (9 floats,
+    row-major))], as DifferentialIK.step takes."""
+    r0, r1, r2, r3, r4, r5, r6, r7, r8 = rotation
+    ox, oy, oz = origin
     out = []
     for (x, y, z), (m0, m1, m2, m3, m4, m5, m6, m7, m8) in zip(
-        self.pos.tolist(), self.rot.reshape(-1, 9).tolist()):
+        self._pos, self._rot.reshape(-1, 9).tolist()):
       x, y, z = x - ox, y - oy, z - oz
       out.append(([r0 * x + r3 * y + r6 * z, r1 * x + r4 * y + r7 * z, r2 * x + r5 * y + r8 * z],
                   [r0 * m0 + r3 * m3 + r6 * m6, r0 * m1 + r3 * m4 + r6 * m7,
@@ -125,8 +139,8 @@ class TaskSpaceTargets:
 
   def apply_pose(self, i, action, home_rot):
     low, high = self._workspace[i]
-    self.pos[i] = (low + high) / 2 + action[:3] * (high - low) / 2
-    self.rot[i] = geometry.axis_angle_to_mat(action[3:6] * np.pi) @ home_rot
+    self._set(i, (low + high) / 2 + action[:3] * (high - low) / 2,
+              geometry.axis_angle_to_mat(action[3:6] * np.pi) @ home_rot)
 
 
 def _axis_angle_rows(x, y, z):

@@ -12,6 +12,8 @@ builds it with mink.build_ik + qpsolvers, which `solve` uses and tests compare
 `step` against.
 """
 
+import math
+
 import mink
 import mujoco
 import numpy as np
@@ -20,6 +22,7 @@ from dm_control import mjcf
 
 from ikea_suite.robots import ik_qp
 
+_TURN = 2 * np.pi
 # Regularizes the redundant (null-space) motion of 7-DoF arms towards home.
 _POSTURE_COST = 1e-2
 _DAMPING = 1e-3
@@ -67,11 +70,15 @@ class DifferentialIK:
     endless = ~model.jnt_limited.astype(bool) & (model.jnt_type == int(mujoco.mjtJoint.mjJNT_HINGE))
     self._endless_qpos = model.jnt_qposadr[endless]
     self._posture_q = None
+    self._turns = None   # whole turns of each endless joint the posture target was set for
+    self._endless_home = []
 
   def set_posture(self, q):
     self._posture_q = np.array(q, dtype=float)
     self._posture.set_target(self._posture_q)
     self._qp.set_posture_target(self._posture_q)
+    self._turns = None
+    self._endless_home = self._posture_q[self._endless_qpos].tolist()
 
   def posture_near(self, q):
     """The posture target (the robot's home joints), each endless joint turned by whole
@@ -84,6 +91,15 @@ class DifferentialIK:
   def _wrap_posture(self, q):
     if self._posture_q is None or not len(self._endless_qpos):
       return
+    # The turns as posture_near counts them (round half to even, as np.round), in Python
+    # floats: they change only when a joint winds past half a turn from its target, and
+    # building the target every control step cost the Jaco 10 us of its 50 ms step.
+    turns = [(angle - home) / _TURN
+             for angle, home in zip(q[self._endless_qpos].tolist(), self._endless_home)]
+    turns = [round(t) if math.isfinite(t) else None for t in turns]
+    if turns == self._turns and None not in turns:
+      return
+    self._turns = turns
     target = self.posture_near(q)
     self._posture.set_target(target)
     self._qp.set_posture_target(target)

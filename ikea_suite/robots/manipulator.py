@@ -75,6 +75,9 @@ class Manipulator(work_area.WorkArea, base.Robot):
     max_rotation = options.positive("max_rotation", max_rotation)
     self._base_pos = options.vector("base_pos", self.BASE_POS if base_pos is None else base_pos, (3,))
     self._base_rot = geometry.rot_z(options.number("base_yaw", base_yaw))
+    # The same pose as Python floats, for the task-space targets' per-step frame change.
+    self._base_pos_floats = self._base_pos.tolist()
+    self._base_rot_floats = self._base_rot.reshape(9).tolist()
     options.choice("wrist_camera", wrist_camera, (True, False))
     camera_size = options.vector("camera_size", camera_size, (2,))
     if (camera_size < 1).any() or (camera_size != np.round(camera_size)).any():
@@ -284,7 +287,7 @@ class Manipulator(work_area.WorkArea, base.Robot):
   def _track_task_space(self, physics):
     """Joint targets for the position actuators from the task-space targets, by IK."""
     data = physics.data
-    targets = self._targets.in_frame(self._base_pos, self._base_rot)
+    targets = self._targets.in_frame(self._base_pos_floats, self._base_rot_floats)
     q = self._ik.step(data.qpos[self._ik_to_qpos], targets, self._dt)
     data.ctrl[self._arm_act_flat] = q[self._arm_from_ik]
 
@@ -349,7 +352,7 @@ class Manipulator(work_area.WorkArea, base.Robot):
 
   def task_space_target(self, arm=0):
     """World position and rotation of the tool target the task-space modes track."""
-    return self._targets.pos[arm].copy(), self._targets.rot[arm].copy()
+    return self._targets.pos[arm], self._targets.rot[arm]
 
   def gripper_opening(self, physics, arm=0):
     gripper = self._arms[arm].gripper
@@ -358,7 +361,7 @@ class Manipulator(work_area.WorkArea, base.Robot):
 
   def tcp_positions(self, physics):
     """(arms, 3) tool-centre-point positions."""
-    return physics.data.site_xpos[self._tcp_ids].copy()
+    return physics.data.site_xpos[self._tcp_ids]   # indexing by an id array copies
 
   def tool_positions(self, physics):
     return self.tcp_positions(physics)
@@ -377,10 +380,10 @@ class Manipulator(work_area.WorkArea, base.Robot):
   def gripper_openings(self, physics):
     """(arms,) gripper openings, 1 open .. 0 closed (grippers.opening of every arm at once)."""
     fraction = (physics.data.qpos[self._finger_qpos] - self._finger_closed) / self._finger_span
-    return np.minimum(np.maximum(fraction, 0.0), 1.0).sum(axis=1) / fraction.shape[1]
+    return np.add.reduce(np.minimum(np.maximum(fraction, 0.0), 1.0), axis=1) / fraction.shape[1]
 
   def joint_positions(self, physics):
-    return physics.data.qpos[self._arm_qpos].ravel().copy()
+    return physics.data.qpos[self._arm_qpos].ravel()   # indexing by an array copies
 
   def joint_velocities(self, physics):
-    return physics.data.qvel[self._arm_dof].ravel().copy()
+    return physics.data.qvel[self._arm_dof].ravel()
