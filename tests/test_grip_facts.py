@@ -153,10 +153,11 @@ _LEG = ("table_four_leg_lack", "leg0", False)                 # 0.19 kg, 5 cm sq
 _SHELF = ("bookcase_shelf_unit_billy", "shelf0", True)         # 1.5 kg, 18 mm panel, on edge
 # The Sawyer's fingers sit one slot in (grippers.RETHINK_SLOT_1) and open to 60 mm, too
 # little room for the 50 mm Lack leg: it takes a 35 mm stool leg. (The Baxter, in the
-# sheet's slot, let the Lack leg slip 7.7 mm here: not yet held.) Not yet held by the Sawyer (measured, reported in issue 9's
-# closing note): its 8 mm fingertips let the 1.5 kg shelf swing about the finger axis and
-# out of the 22 N grasp within 1 s, and a 12 mm box wall standing on edge is pushed over
-# by the first finger.
+# sheet's slot, let the Lack leg slip 7.7 mm here and this stool leg 9.2 mm: not yet
+# held.) Not yet held by the Sawyer (measured, reported in issue 9's closing note): its
+# 8 mm fingertips let the 1.5 kg shelf swing about the finger axis and out of the 22 N
+# grasp within 1 s, and a 12 mm box wall standing on edge is pushed over by the first
+# finger.
 _STOOL_LEG = ("stool_square_pine", "leg0", False)              # 0.26 kg, 35 mm square, lying
 _CASES = [("sawyer", _STOOL_LEG), ("panda", _LEG), ("panda", _SHELF), ("jaco", _LEG)]
 
