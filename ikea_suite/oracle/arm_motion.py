@@ -150,13 +150,22 @@ class PoseServo:
     if np.linalg.norm(error) < self._near:   # gather the integral only close to the goal
       self._offset = _clip_norm(self._offset + self._ki * error, self._max_offset)
       self._rot_offset = _clip_norm(self._rot_offset + self._ki * rot_error, self._max_rot_offset)
-    move = gain * (goal_pos + self._offset - target_pos) / robot.max_translation
     aim = geometry.axis_angle_to_mat(self._rot_offset) @ goal_rot
-    turn = gain * geometry.mat_to_axis_angle(aim @ target_rot.T) / robot.max_rotation
-    move /= max(1.0, np.abs(move).max())
-    move *= min(1.0, max_speed / max(np.abs(move).max(), 1e-12))   # exactly 1 at full speed
-    turn *= max_turn / max(max_turn, np.abs(turn).max())
-    return np.concatenate([move, turn])
+    return delta_action(robot, target_pos, target_rot, goal_pos + self._offset, aim, gain,
+                        max_turn, max_speed)
+
+
+def delta_action(robot, target_pos, target_rot, goal_pos, goal_rot, gain=1.0, max_turn=1.0,
+                 max_speed=1.0):
+  """Task-space action entries (6) that move the robot's target (target_pos, target_rot)
+  straight towards the goal, `gain` of the way, at most `max_speed` and `max_turn` of the
+  robot's largest per-step move and turn."""
+  move = gain * (goal_pos - target_pos) / robot.max_translation
+  turn = gain * geometry.mat_to_axis_angle(goal_rot @ target_rot.T) / robot.max_rotation
+  move /= max(1.0, np.abs(move).max())
+  move *= min(1.0, max_speed / max(np.abs(move).max(), 1e-12))   # exactly 1 at full speed
+  turn *= max_turn / max(max_turn, np.abs(turn).max())
+  return np.concatenate([move, turn])
 
 
 class Unwinder:
@@ -307,13 +316,13 @@ def pose_error(robot, physics, arm, goal_pos, goal_rot):
 
 
 def servo_path_end(robot, arm, q, goal_pos, goal_rot, dt, max_turn=1.0, max_steps=200,
-                   near=0.02, max_lag=0.1):
+                   near=0.02):
   """(joints, metres and radians from the goal) at which one arm stops, from joints `q`
   (an arm_qpos vector), as PoseServo (gain 1, turning at `max_turn`) brings its tool to
-  the world pose (goal_pos, goal_rot) on the arc around the base (arc_waypoint): its
-  target moves and turns as the robot's task-space target does (at most `max_lag` m
-  ahead of the tool) and the joints follow the differential IK step by step (control
-  steps of `dt` s), on the IK's own model; nothing collides, nothing lags.
+  the world pose (goal_pos, goal_rot) on the arc around the base (arc_waypoint): a copy
+  of the robot's task-space targets takes the same delta actions, and the joints follow
+  the differential IK step by step (control steps of `dt` s), on the IK's own model;
+  nothing collides, nothing lags.
 
   A converged IK solve (Manipulator.reach_check) finds a pose by whatever path: it
   reached a trestle's mate from a wrist 0.3 rad short of its limit by turning it back,
@@ -323,28 +332,32 @@ def servo_path_end(robot, arm, q, goal_pos, goal_rot, dt, max_turn=1.0, max_step
   ik = robot.ik
   base_pos, base_rot = robot.base_pose
   heading = np.arctan2(base_rot[1, 0], base_rot[0, 0])
-  step = robot.max_translation
 
   def tool(q):
     pos, rot = ik.tcp_poses(q)[arm]
     return base_rot @ pos + base_pos, base_rot @ rot
 
   q, failures = np.array(q, dtype=float), ik.failures
-  target_pos, target_rot = tool(q)
+  targets = robot.replay_targets()
+  poses = list(zip(targets.pos, targets.rot))
+  poses[arm] = tool(q)
+  targets.reset(poses)
+  actions = np.zeros((len(poses), 6))   # the other arms' targets stay where they are
   for _ in range(max_steps + 1):
     pos, rot = tool(q)
     distance = float(np.linalg.norm(goal_pos - pos))
     angle = float(np.linalg.norm(geometry.mat_to_axis_angle(goal_rot @ rot.T)))
     if distance < near and angle < 0.05:
       break
-    move = (arc_waypoint(base_pos, pos, goal_pos, heading=heading) - target_pos) / step
-    target_pos = target_pos + move / max(1.0, np.abs(move).max()) * step
-    target_pos = pos + _clip_norm(target_pos - pos, max_lag)
-    turn = geometry.mat_to_axis_angle(goal_rot @ target_rot.T) / robot.max_rotation
-    turn *= max_turn / max(max_turn, np.abs(turn).max())
-    target_rot = geometry.axis_angle_to_mat(turn * robot.max_rotation) @ target_rot
+    target_pos, target_rot = targets.pos[arm], targets.rot[arm]
+    actions[arm] = delta_action(robot, target_pos, target_rot,
+                                arc_waypoint(base_pos, pos, goal_pos, heading=heading), goal_rot,
+                                max_turn=max_turn)
+    tools = targets.pos
+    tools[arm] = pos
+    targets.apply_deltas(actions, tools)
     goals = list(ik.tcp_poses(q))
-    goals[arm] = (base_rot.T @ (target_pos - base_pos), base_rot.T @ target_rot)
+    goals[arm] = (base_rot.T @ (targets.pos[arm] - base_pos), base_rot.T @ targets.rot[arm])
     q = ik.step(q, goals, dt)
   ik.failures = failures   # it counts the arm's own steps, not these
   return q, distance, angle

@@ -30,13 +30,13 @@ def reach_cost(robot, physics, arm, goal_pos, goal_rot, start=None, servo=None):
   limit, where the carry drove it into that limit and stalled 15 cm short (Sawyer,
   desk_trestle_w120_white tuning seed 1).
   """
+  servoed = 0.0   # joint travel of the servo's path, before the IK's
   if servo is not None and winds_past_a_turn(robot, arm):
     begin = robot.arm_qpos(physics) if start is None else start
     start = arm_motion.servo_path_end(robot, arm, begin, goal_pos, goal_rot, *servo)[0]
-    miss, margin, travel = robot.reach_check(physics, arm, goal_pos, goal_rot, start=start)
-    travel += float(np.linalg.norm(start - begin))
-  else:
-    miss, margin, travel = robot.reach_check(physics, arm, goal_pos, goal_rot, start=start)
+    servoed = float(np.linalg.norm(start - begin))
+  miss, margin, travel = robot.reach_check(physics, arm, goal_pos, goal_rot, start=start)
+  travel += servoed
   return miss + 0.02 * travel + np.maximum(0.0, 0.3 - margin).sum()
 
 

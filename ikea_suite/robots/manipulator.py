@@ -6,6 +6,7 @@ placement the robot can reach) is shared. Controls and targets are set once per
 control step in `apply_action`; MuJoCo's actuators (arm_actuators) act on them
 during the substeps, so no Python runs per physics substep."""
 
+import copy
 import dataclasses
 
 import mujoco
@@ -349,6 +350,11 @@ class Manipulator(work_area.WorkArea, base.Robot):
   def finger_actuator_ids(self):
     """(arms, fingers) MuJoCo actuator ids of the gripper fingers (set after compile)."""
     return self._finger_act.copy()
+
+  def replay_targets(self):
+    """A copy of the task-space targets (control_modes.TaskSpaceTargets) as they stand,
+    for replaying delta actions without moving the robot's own."""
+    return copy.deepcopy(self._targets)
 
   def task_space_target(self, arm=0):
     """World position and rotation of the tool target the task-space modes track."""
