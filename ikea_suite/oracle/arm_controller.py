@@ -15,6 +15,7 @@ from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.oracle import arm_motion
 from ikea_suite.oracle import clearance
+from ikea_suite.oracle import grasp_motion
 from ikea_suite.oracle import grasp_pose
 from ikea_suite.oracle import jobs
 from ikea_suite.oracle import mating
@@ -23,29 +24,8 @@ from ikea_suite.oracle import targets
 from ikea_suite.oracle import turn_over
 from ikea_suite.robots import control_modes
 
-# The open fingers go down to a part slowly: at full speed the hand swings sideways by
-# up to 2.6 cm (Sawyer, 7 cm descent in 3 steps) and a finger lands on the part.
-DESCEND_GAIN = 0.3
 # Rad of any joint from home beyond which the arm goes home in joint space between parts.
 UNWIND_FROM = 1.0
-# A hand whose fingers curl below the tool centre closes only once it moves less than this
-# per control step (m): 1 mm still let the Jaco's hand swing 1 cm while closing.
-SETTLED_SPEED = 0.0005
-# Such a hand (one finger against two) holds a lifted part with its fingers aimed this far
-# (rad) short of their closed limit instead of past it; see arm_motion.hold_command.
-HOLD_SHORT_OF_CLOSED = 0.05
-# A panel held by its top edge (grasp_pose.by_top_edge) hangs from the fingers: it goes
-# down onto its mate at this fraction of the arm's top speed (at 25 mm a step it swung
-# as the arm stopped), and the fingers close on it only within EDGE_GATE (m): 6 mm off,
-# as for a leg, one finger pushed a 6 mm box wall over in its slot, the hand held it
-# askew on its top edge, and it pivoted out of the grip during the carry.
-HANGING_SPEED, EDGE_GATE = 0.3, 0.0015
-# The open fingers pass 2 cm either side of a racked panel (Sawyer): the descent onto its
-# top edge starts only within EDGE_REACH (m) of the point above it, and goes down at
-# HANGING_SPEED. Started 2 cm off (the REACH gate) with the tool lagging its target, and
-# at full speed, a fingertip landed on the edge and pushed the panel out of the rack
-# (Sawyer, desk_trestle_w100_birch tuning seeds 4, 14, 17, 18).
-EDGE_REACH = 0.006
 
 
 class Phase(enum.Enum):
@@ -89,7 +69,8 @@ class ArmAssemblyController:
     self._unwinder = arm_motion.Unwinder()
     self._carry_watch = arm_motion.ProgressWatch(window=80)
     self._uneven = None   # the hand closes one finger against two (_against_pair)
-    self._hold_command = arm_motion.hold_command(robot.arms[arm].gripper, HOLD_SHORT_OF_CLOSED)
+    self._hold_command = arm_motion.hold_command(robot.arms[arm].gripper,
+                                                 grasp_motion.HOLD_SHORT_OF_CLOSED)
     self._turn_over = turn_over.TurnOver(env, arm, self._surface, self._clearance, close_steps)
     self.reset()
 
@@ -203,9 +184,10 @@ class ArmAssemblyController:
       route = self._clearance
       waypoint = route.arc_waypoint(route.over_assembly(goal)) if phase == Phase.REACH else goal
       edge = self._grasps.by_top_edge(moving)
+      slow = edge and phase == Phase.DESCEND
       poses[:] = self._servo(robot, physics, arm, waypoint, rot,
-                             gain=1.0 if phase == Phase.REACH else DESCEND_GAIN,
-                             max_speed=HANGING_SPEED if edge and phase == Phase.DESCEND else 1.0)
+                             gain=1.0 if phase == Phase.REACH else grasp_motion.DESCEND_GAIN,
+                             max_speed=grasp_motion.HANGING_SPEED if slow else 1.0)
       distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
       settled = self._settled()
       self._stalled += 1
@@ -215,10 +197,11 @@ class ArmAssemblyController:
         self._unwind()   # home before the next part
         if len(self._unreachable) >= len(task.furniture.parts):
           self._unreachable = set()
-      elif phase == Phase.REACH and distance < (EDGE_REACH if edge else 0.02) and angle < 0.05:
+      elif phase == Phase.REACH and angle < 0.05 and distance < (
+          grasp_motion.EDGE_REACH if edge else 0.02):
         self.phase, self._stalled = Phase.DESCEND, 0
       elif (phase == Phase.DESCEND and angle < 0.05 and settled and distance < (
-          EDGE_GATE if edge else 0.006)):
+          grasp_motion.EDGE_GATE if edge else 0.006)):
         self.phase, self._counter, self._stalled = Phase.CLOSE, 0, 0
         self._grasp, self._hanging = (goal, rot), edge
     elif phase == Phase.CLOSE:
@@ -294,7 +277,7 @@ class ArmAssemblyController:
         return action
       # The last centimetres slowly: at gain 0.6 the arm hunted +-1 cm about the goal.
       poses[:] = self._servo(robot, physics, arm, *goal, gain=0.6 if phase == Phase.ALIGN else 0.3,
-                             max_speed=HANGING_SPEED if self._hanging else 1.0)
+                             max_speed=grasp_motion.HANGING_SPEED if self._hanging else 1.0)
       current, rot = targets.part_pose(physics, task.furniture, moving)
       distance = np.linalg.norm(part_pos + offset * side - current)
       angle = np.linalg.norm(geometry.mat_to_axis_angle(part_rot @ rot.T))
@@ -315,7 +298,7 @@ class ArmAssemblyController:
       lowering = self._counter == len(self._put_back_path) - 1
       waypoint = goal if lowering else self._clearance.arc_waypoint(goal)
       poses[:] = self._servo(robot, physics, arm, waypoint, rot, max_turn=0.3,
-                             gain=DESCEND_GAIN if lowering else 1.0)
+                             gain=grasp_motion.DESCEND_GAIN if lowering else 1.0)
       distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
       self._stalled += 1
       if distance < (0.01 if lowering else 0.03) and angle < 0.05:
@@ -356,7 +339,7 @@ class ArmAssemblyController:
     tcp, _ = self._robot.tcp_pose(self._env.physics, self._arm)
     last, self._last_tcp = self._last_tcp, tcp
     return (not self._against_pair() or
-            last is not None and np.linalg.norm(tcp - last) < SETTLED_SPEED)
+            last is not None and np.linalg.norm(tcp - last) < grasp_motion.SETTLED_SPEED)
 
   def _unwind(self, keep_clear=False):
     self._unwinder.start(self._robot, self._env.physics, self._arm,
