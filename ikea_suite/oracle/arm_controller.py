@@ -163,7 +163,7 @@ class ArmAssemblyController:
       if self._job is not None:
         self._grasp_sign = mating.choose_grasp_sign(
             env, arm, self._job[1], self._grasp_pose, self._hover, self._approach,
-            self._failed_plans, self._stalled_grasps)
+            self._failed_plans, self._stalled_grasps, self._carry_height.nominal)
       elif self.phase != Phase.UNWIND and turn_over.waiting(
           task, physics, self._surface) and self._turn_over.start(
           self.closing_local()):
@@ -230,7 +230,8 @@ class ArmAssemblyController:
         return action
       if self._plan is None:
         self._plan, self._carrying = mating.plan_mating(
-            env, arm, moving, self._approach, self._failed_plans), True
+            env, arm, moving, self._approach, self._failed_plans,
+            carry_top=self._carry_height.nominal), True
         self._carry_watch.reset()
         self._carry_height.reset()
         if self._plan is not None:

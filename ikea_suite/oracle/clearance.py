@@ -99,7 +99,7 @@ class CarryHeight:
   """
 
   def __init__(self, route, nominal):
-    self._route, self._nominal = route, nominal
+    self._route, self.nominal = route, nominal
     self.top = None   # chosen at the first step of a plan's carry
     self._floor = None
 
@@ -112,7 +112,7 @@ class CarryHeight:
     `part` held as it will sit at (part_pos, part_rot)."""
     self._floor = self._route.carry_floor(goal[0], part, part_pos, part_rot)
     if self.top is None:
-      self.top = max(self._nominal, self._floor if hanging else 0.0)
+      self.top = max(self.nominal, self._floor if hanging else 0.0)
     return goal[0] + [0.0, 0.0, max(0.0, self.top - goal[0][2])]
 
   def lower(self, goal, pinned):
@@ -120,7 +120,7 @@ class CarryHeight:
     a trestle table, the raised carry stalled until time ran out); otherwise, unless a
     joint is `pinned` (the caller replans then), down to what the arm reaches, not
     below the floor (`route.reachable_carry`). True when the height came down."""
-    top = self._nominal if self.top > self._nominal else self.top if pinned else (
+    top = self.nominal if self.top > self.nominal else self.top if pinned else (
         self._route.reachable_carry(goal[0], goal[1], self.top, self._floor))
     if top < self.top - 0.01:
       self.top = top

@@ -20,6 +20,13 @@ def winds_past_a_turn(robot, arm):
   return bool(np.any(np.isfinite(span) & (span > 2.0 * np.pi)))
 
 
+# A converged IK solve that misses by more than this (m) may have stopped in a local
+# minimum: the servo's own path is then tried too. From a racked trestle's grasp the IK
+# missed the far mate by 12 cm, every joint at a limit, where the servo's path reached it
+# (Panda, desk_trestle_w120_white tuning seed 10).
+PATH_CHECK_MISS = 0.01
+
+
 def reach_cost(robot, physics, arm, goal_pos, goal_rot, start=None, servo=None):
   """IK miss, joint travel and joints near their limits of a tool pose, the IK solved
   from the present joints or `start` (an arm_qpos vector): lower is easier.
@@ -28,15 +35,22 @@ def reach_cost(robot, physics, arm, goal_pos, goal_rot, start=None, servo=None):
   starts where the servo's own path from there stops (arm_motion.servo_path_end): from
   home the IK reached a racked trestle's mate turning the wrist back from near its
   limit, where the carry drove it into that limit and stalled 15 cm short (Sawyer,
-  desk_trestle_w120_white tuning seed 1).
+  desk_trestle_w120_white tuning seed 1). For other arms the path is tried where the
+  converged IK misses by more than PATH_CHECK_MISS, and the nearer of the two counts.
   """
-  servoed = 0.0   # joint travel of the servo's path, before the IK's
+  begin = robot.arm_qpos(physics) if start is None else start
+
+  def along_the_path():
+    end = arm_motion.servo_path_end(robot, arm, begin, goal_pos, goal_rot, *servo)[0]
+    miss, margin, travel = robot.reach_check(physics, arm, goal_pos, goal_rot, start=end)
+    return miss, margin, travel + float(np.linalg.norm(end - begin))
+
   if servo is not None and winds_past_a_turn(robot, arm):
-    begin = robot.arm_qpos(physics) if start is None else start
-    start = arm_motion.servo_path_end(robot, arm, begin, goal_pos, goal_rot, *servo)[0]
-    servoed = float(np.linalg.norm(start - begin))
-  miss, margin, travel = robot.reach_check(physics, arm, goal_pos, goal_rot, start=start)
-  travel += servoed
+    miss, margin, travel = along_the_path()
+  else:
+    miss, margin, travel = robot.reach_check(physics, arm, goal_pos, goal_rot, start=start)
+    if servo is not None and miss > PATH_CHECK_MISS:
+      miss, margin, travel = min((miss, margin, travel), along_the_path(), key=lambda r: r[0])
   return miss + 0.02 * travel + np.maximum(0.0, 0.3 - margin).sum()
 
 
@@ -129,7 +143,52 @@ def hand_in_the_way(env, arm, tool_pos, tool_rot):
   return overlap
 
 
-def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None, start=None):
+def in_a_later_carry(env, moving, pair, part_pos, part_rot, carry_top):
+  """Whether `moving`, standing at (part_pos, part_rot) for `pair`, would stand on the arc
+  another racked part takes to one of its open mates (arm_motion.arc_waypoint, from where
+  it lies), so tall that the other, hanging below the tool, would pass over it only with
+  the tool above `carry_top` (the nominal carry height). The Panda reaches 0.70 m, not the
+  0.75 m a half-scale trestle needs over the one standing before it; the first trestle
+  stood at the mate nearer the rack, the second struck it on its way to the far one and
+  fell (desk_trestle_w120_white tuning seeds 2, 9, 10, 16, table_trestle_l120_white 9,
+  10, 16)."""
+  task, physics, robot = env.task, env.physics, env.task.robot
+  furniture, table = task.furniture, task.furniture.connectors
+  groups = task.state.group_labels()
+  built = groups[task.root_part]
+  mine = targets.part_corners(furniture, moving, part_pos, part_rot)
+  positions, rotations = furniture.part_poses(physics)
+  cpos, _ = table.world_frames(positions, rotations)
+  base, base_rot = robot.base_pose
+  heading = np.arctan2(base_rot[1, 0], base_rot[0, 0])
+  taken = (table.pair_a[pair], table.pair_b[pair])
+  for other in task.initializer.racked_parts:
+    if other == moving or groups[other] == built:
+      continue
+    theirs = targets.part_corners(furniture, other, positions[other], rotations[other])
+    if mine[:, 2].max() + np.ptp(theirs[:, 2]) + 0.03 <= carry_top:
+      continue
+    near = (np.linalg.norm(mine[:, :2] - part_pos[:2], axis=1).max()
+            + np.linalg.norm(theirs[:, :2] - positions[other][:2], axis=1).max())
+    for open_pair in np.flatnonzero(planner.open_pairs(table, task.state)):
+      for fixed, loose in ((table.pair_a[open_pair], table.pair_b[open_pair]),
+                           (table.pair_b[open_pair], table.pair_a[open_pair])):
+        if (table.part[loose] != other or groups[table.part[fixed]] != built
+            or fixed in taken):
+          continue
+        point, goal = positions[other].copy(), cpos[fixed].copy()
+        point[2] = goal[2] = 0.0
+        for _ in range(40):   # the arc, step by step, until it arrives
+          if np.linalg.norm(point[:2] - part_pos[:2]) < near:
+            return True
+          if np.linalg.norm(point[:2] - goal[:2]) < 0.01:
+            break
+          point = arm_motion.arc_waypoint(base, point, goal, heading=heading)
+  return False
+
+
+def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None, start=None,
+                carry_top=None):
   """(score, pair, twist) for the held part: the mate and twist the arm reaches best.
 
   Each candidate's pre-insertion tool pose (`approach` m back from the mate along its
@@ -141,7 +200,9 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None, start=No
   and mates off the design (off_design) are skipped: a trestle that attached facing
   out, once the twist facing in had stalled, left its stretcher no slot (Panda,
   desk_trestle_w100_birch tuning seeds 6 and 15); with no other mate left the part is
-  set down and taken the other way. None when no mate is open.
+  set down and taken the other way. With `carry_top` (the nominal carry height), a mate
+  where the part would stand in a later racked part's carry, too tall to be passed over
+  (in_a_later_carry), costs 1. None when no mate is open.
   """
   task, physics, robot = env.task, env.physics, env.task.robot
   table, state = task.furniture.connectors, task.state
@@ -169,23 +230,28 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None, start=No
       in_the_way = hand_in_the_way(env, arm, goal_pos, goal_rot)
       score = (reach_cost(robot, physics, arm, goal_pos, goal_rot, start, servo=(
           env.control_timestep(), arm_motion.CARRY_TURN)) + 2.0 * cramped
-               + 10.0 * in_the_way + nearby * np.linalg.norm(goal_pos[:2] - part_xy))
+               + 10.0 * in_the_way + nearby * np.linalg.norm(goal_pos[:2] - part_xy)
+               + 1.0 * (carry_top is not None and in_a_later_carry(
+                   env, moving, pair, part_pos, part_rot, carry_top)))
       if best is None or score < best[0]:
         best = (score, int(pair), float(twist))
   return best
 
 
 def choose_grasp_sign(env, arm, moving, grasp_pose, hover, approach, failed_plans=(),
-                      stalled_grasps=()):
+                      stalled_grasps=(), carry_top=None):
   """Which of the two symmetric top-down grasps of `moving` (grasp_pose(part, sign) -> tool
   pose) the wrist reaches best, `hover` m above it, and leaves the easier mating; a
   (part, sign) in `stalled_grasps` goes last.
 
-  For an arm that winds_past_a_turn both are judged along the servo's path (reach_cost),
-  the mating from where the reach stops above the grasp, not from the present pose: a
-  wrist that took a racked trestle near the end of its range turned into its limit on
-  the way to the mate, which from home the IK reached turning it the other way (Sawyer,
-  desk_trestle_w100_birch tuning seed 3, w120_white seed 1)."""
+  The mating is judged from where the servo's path (arm_motion.servo_path_end) stops
+  above the grasp, not from the present pose: a wrist that took a racked trestle near
+  the end of its range turned into its limit on the way to the mate, which from home
+  the IK reached turning it the other way (Sawyer, desk_trestle_w100_birch tuning seed
+  3, w120_white seed 1); from home the IK reached a trestle's far mate that from the
+  grasp neither it nor the servo reached, the last joint at its limit 16 cm short, and
+  the trestle went to the near mate, where the next one's carry struck it (Panda,
+  w120_white seed 2)."""
   physics, furniture, robot = env.physics, env.task.furniture, env.task.robot
   part_pos, part_rot = targets.part_pose(physics, furniture, moving)
   best = None
@@ -193,10 +259,8 @@ def choose_grasp_sign(env, arm, moving, grasp_pose, hover, approach, failed_plan
     point, rot = grasp_pose(moving, sign)
     grip = (part_rot.T @ (point - part_pos), part_rot.T @ rot)
     above, dt = point + [0.0, 0.0, hover], env.control_timestep()
-    start = None   # where the reach stops
-    if winds_past_a_turn(robot, arm):
-      start = arm_motion.servo_path_end(robot, arm, robot.arm_qpos(physics), above, rot, dt)[0]
-    plan = plan_mating(env, arm, moving, approach, failed_plans, grip, start)
+    start = arm_motion.servo_path_end(robot, arm, robot.arm_qpos(physics), above, rot, dt)[0]
+    plan = plan_mating(env, arm, moving, approach, failed_plans, grip, start, carry_top)
     # A grasp the last wrist joint cannot turn to stalls the reach; after a stall the other
     # grasp goes first (the Panda's last joint met its limit again from the same pose).
     score = reach_cost(robot, physics, arm, above, rot, servo=(dt, 1.0)) + (
