@@ -22,8 +22,8 @@ def winds_past_a_turn(robot, arm):
 
 # A converged IK solve that misses by more than this (m) may have stopped in a local
 # minimum: the servo's own path is then tried too. From a racked trestle's grasp the IK
-# missed the far mate by 12 cm, every joint at a limit, where the servo's path reached it
-# (Panda, desk_trestle_w120_white tuning seed 10).
+# missed the far mate by 12 cm, four joints at their limits, where the servo's path
+# reached it (Panda, desk_trestle_w120_white tuning seed 10).
 PATH_CHECK_MISS = 0.01
 
 
