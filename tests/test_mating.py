@@ -26,7 +26,7 @@ def _mate_tool_goal(env, expert, pair, twist):
 
 
 def _trestle_mates(env, moving):
-  """{top slot connector pair: mate position} of the held trestle's two slots in the top."""
+  """{connector pair: mate_pose at twist 0} of the held trestle's two slots in the top."""
   table = env.task.furniture.connectors
   out = {}
   for pair in range(len(table.pair_a)):

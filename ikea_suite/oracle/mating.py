@@ -27,7 +27,7 @@ def winds_past_a_turn(robot, arm):
 PATH_CHECK_MISS = 0.01
 
 
-def reach_cost(robot, physics, arm, goal_pos, goal_rot, start=None, servo=None):
+def reach_cost(robot, physics, arm, goal_pos, goal_rot, start=None, servo=None, path_end=None):
   """IK miss, joint travel and joints near their limits of a tool pose, the IK solved
   from the present joints or `start` (an arm_qpos vector): lower is easier.
 
@@ -37,11 +37,12 @@ def reach_cost(robot, physics, arm, goal_pos, goal_rot, start=None, servo=None):
   limit, where the carry drove it into that limit and stalled 15 cm short (Sawyer,
   desk_trestle_w120_white tuning seed 1). For other arms the path is tried where the
   converged IK misses by more than PATH_CHECK_MISS, and the nearer of the two counts.
+  `path_end`: where that path stops (its joints), when the caller has replayed it already.
   """
-  begin = robot.arm_qpos(physics) if start is None else start
-
   def along_the_path():
-    end = arm_motion.servo_path_end(robot, arm, begin, goal_pos, goal_rot, *servo)[0]
+    begin = robot.arm_qpos(physics) if start is None else start
+    end = path_end if path_end is not None else arm_motion.servo_path_end(
+        robot, arm, begin, goal_pos, goal_rot, *servo)[0]
     miss, margin, travel = robot.reach_check(physics, arm, goal_pos, goal_rot, start=end)
     return miss, margin, travel + float(np.linalg.norm(end - begin))
 
@@ -156,15 +157,16 @@ def in_a_later_carry(env, moving, pair, part_pos, part_rot, carry_top):
   furniture, table = task.furniture, task.furniture.connectors
   groups = task.state.group_labels()
   built = groups[task.root_part]
+  others = [p for p in task.initializer.racked_parts if p != moving and groups[p] != built]
+  if not others:   # stools and tables: nothing racked is still to come
+    return False
   mine = targets.part_corners(furniture, moving, part_pos, part_rot)
   positions, rotations = furniture.part_poses(physics)
   cpos, _ = table.world_frames(positions, rotations)
   base, base_rot = robot.base_pose
   heading = np.arctan2(base_rot[1, 0], base_rot[0, 0])
   taken = (table.pair_a[pair], table.pair_b[pair])
-  for other in task.initializer.racked_parts:
-    if other == moving or groups[other] == built:
-      continue
+  for other in others:
     theirs = targets.part_corners(furniture, other, positions[other], rotations[other])
     if mine[:, 2].max() + np.ptp(theirs[:, 2]) + 0.03 <= carry_top:
       continue
@@ -263,7 +265,7 @@ def choose_grasp_sign(env, arm, moving, grasp_pose, hover, approach, failed_plan
     plan = plan_mating(env, arm, moving, approach, failed_plans, grip, start, carry_top)
     # A grasp the last wrist joint cannot turn to stalls the reach; after a stall the other
     # grasp goes first (the Panda's last joint met its limit again from the same pose).
-    score = reach_cost(robot, physics, arm, above, rot, servo=(dt, 1.0)) + (
+    score = reach_cost(robot, physics, arm, above, rot, servo=(dt, 1.0), path_end=start) + (
         10.0 if plan is None else plan[0]) + 5.0 * ((moving, sign) in stalled_grasps)
     if best is None or score < best[0]:
       best = (score, sign)
