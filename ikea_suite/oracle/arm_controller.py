@@ -263,7 +263,9 @@ class ArmAssemblyController:
       if self._carrying:   # first over the goal at carry height, then down to it
         high = self._carry_height.waypoint(goal, moving, part_pos + offset * side, part_rot,
                                            self._hanging)
-        poses[:] = self._servo(robot, physics, arm, self._clearance.arc_waypoint(high), goal[1],
+        waypoint = self._clearance.rise_first(self._clearance.arc_waypoint(high), moving,
+                                              high[2])
+        poses[:] = self._servo(robot, physics, arm, waypoint, goal[1],
                                max_turn=arm_motion.CARRY_TURN)
         distance, angle = arm_motion.pose_error(robot, physics, arm, high, goal[1])
         self._carrying = not (distance < 0.03 and angle < 0.05)

@@ -22,6 +22,7 @@ class AssemblyClearance:
 
   def reset(self):
     self._rise_from = None   # (x, y) a rise clear of the assembly started from
+    self._carry_rise_from = None   # (x, y) a held part's rise (rise_first) started from
 
   def assembly_top(self):
     """Height of the highest corner of the parts joined to the root (or of the surface)."""
@@ -55,6 +56,34 @@ class AssemblyClearance:
       return np.array([*self._rise_from, safe])
     self._rise_from = None
     return np.array([goal[0], goal[1], max(goal[2], safe)])
+
+  def rise_first(self, waypoint, part, top, clearance=0.03, margin=0.03):
+    """The carry's `waypoint`, or straight up from where the rise began while the held
+    `part`, moved as the waypoint would move it sideways, would come over a part of the
+    assembly (footprints `margin` apart) whose top it does not yet clear by `clearance`.
+    Only where the carry's height `top` (tool z) clears that part: otherwise the carry
+    could never get past it. Rising while swinging sideways from the floor, a stretcher's
+    end struck a standing trestle and toppled it (Panda, table_trestle_l120_white tuning
+    seeds 1, 2, 9, 10)."""
+    task, physics = self._env.task, self._env.physics
+    furniture = task.furniture
+    pos, _ = self._robot.tcp_pose(physics, self._arm)
+    held = targets.part_corners(furniture, part, *targets.part_pose(physics, furniture, part))
+    shifted = held[:, :2] + (waypoint[:2] - pos[:2])
+    low, high = shifted.min(0) - margin, shifted.max(0) + margin
+    bottom, blocking = held[:, 2].min(), -np.inf
+    for other in targets.root_group(task):
+      corners = targets.parts_corners(physics, furniture, [other])
+      if (corners[:, 2].max() + clearance > bottom
+          and (corners[:, :2].max(0) > low).all() and (corners[:, :2].min(0) < high).all()):
+        blocking = max(blocking, corners[:, 2].max())
+    rise = blocking + clearance - bottom
+    if not 0.0 < rise <= top - pos[2]:
+      self._carry_rise_from = None
+      return waypoint
+    if self._carry_rise_from is None:
+      self._carry_rise_from = pos[:2].copy()
+    return np.array([*self._carry_rise_from, waypoint[2]])
 
   def above_assembly(self, pos, margin=0.15, clearance=0.08):
     """`pos` raised to safe_height where it lies within `margin` of the assembly's
