@@ -8,6 +8,7 @@ from ikea_suite import experts
 from ikea_suite.experts import bimanual
 from ikea_suite.oracle import arm_controller
 from ikea_suite.oracle import cursor_oracle
+from ikea_suite.oracle import targets
 from tests import helpers
 
 
@@ -109,6 +110,36 @@ def test_panda_expert_lifts_the_stretcher_clear_before_carrying_it_over_the_tres
   env = ikea_suite.load("table_trestle_l120_white", "panda", seed=1, scale=0.5)
   helpers.run_expert(env)
   assert env.task.state.complete
+
+
+def test_rise_first_holds_the_carry_over_its_start_only_while_a_standing_part_is_in_the_way():
+  # Stop the seed-1 episode as the stretcher's carry begins, the trestles standing.
+  env = ikea_suite.load("table_trestle_l120_white", "panda", seed=1, scale=0.5)
+  expert = experts.make_expert(env)
+  timestep = env.reset()
+  expert.reset()
+  task, physics, robot = env.task, env.physics, env.task.robot
+  names = [p.name for p in task.furniture.spec.parts]
+  while not (expert.phase == arm_controller.Phase.ALIGN and expert.job
+             and names[expert.job[1]] == "stretcher"):
+    timestep = env.step(expert(timestep))
+    assert not timestep.last()
+  route, stretcher = expert._clearance, expert.job[1]
+  tcp, _ = robot.tcp_pose(physics, 0)
+  positions, _ = task.furniture.part_poses(physics)
+  trestle = names.index("trestle0")
+  assert trestle in targets.root_group(task)   # standing on the top, 0.35 m tall
+  over = positions[trestle][:2] - positions[stretcher][:2]   # the stretcher moved over it
+  towards = tcp + np.r_[over, 0.05]
+  held = route.rise_first(towards, stretcher, top=1.0)
+  np.testing.assert_allclose(held[:2], tcp[:2])   # straight up from where it is
+  assert held[2] == towards[2]
+  # Where the carry's own height could not clear the trestle, it is not frozen.
+  route.reset()
+  np.testing.assert_array_equal(route.rise_first(towards, stretcher, top=tcp[2] + 0.01), towards)
+  # Moving away from the assembly, nothing is in the way.
+  away = tcp + np.r_[-over, 0.05]
+  np.testing.assert_array_equal(route.rise_first(away, stretcher, top=1.0), away)
 
 
 def test_expert_supported_pairs_are_loadable_pairs():
