@@ -54,7 +54,7 @@ SUPPORTED = {
     # keeps the back's slot out of the base's way): every Panda pair on 37000-37019 (device
     # machine, 16 processes). Not listed: table_trestle_l160_dark 7/20, box_open_large_birch
     # 12/20, box_divided_white_long 11/20, chair_back_pine_high 15/20, chair_back_kids_birch
-    # 11/20 (37000-37019); four other chairs 4-7/10 on tuning seeds 0-9.
+    # 11/20 (37000-37019); four other chairs 2-6/10 on tuning seeds 0-9.
     "panda": {"bench_plank_dark_low": 0.5,        # 19/20
               "bench_plank_oak_long": 0.5,        # 20/20
               "bench_plank_pine": 0.5,            # 20/20
