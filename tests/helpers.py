@@ -53,14 +53,22 @@ def idle_action(env):
   return np.zeros(env.action_spec().shape)
 
 
-def run_expert(env):
-  """Runs `env`'s scripted expert from reset until the furniture is complete or time is up."""
+def expert_steps(env):
+  """Runs `env`'s scripted expert from reset, yielding the expert after each step, until
+  the furniture is complete or time is up."""
   from ikea_suite import experts
   expert = experts.make_expert(env)
   timestep = env.reset()
   expert.reset()
   while not timestep.last() and not env.task.state.complete:
     timestep = env.step(expert(timestep))
+    yield expert
+
+
+def run_expert(env):
+  """Runs `env`'s scripted expert from reset until the furniture is complete or time is up."""
+  for _ in expert_steps(env):
+    pass
 
 
 def geoms_collide(physics, geom_a, geom_b):

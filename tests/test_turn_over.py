@@ -12,6 +12,7 @@ from ikea_suite.oracle import mating
 from ikea_suite.oracle import targets
 from ikea_suite.oracle import turn_over
 from ikea_suite.tasks import planner
+from tests import helpers
 
 CHAIR = "chair_back_pine_high"
 
@@ -61,8 +62,8 @@ def test_the_back_stands_in_the_rack_the_way_up_it_goes_in_after_the_turn_over()
 def test_panda_turns_the_chair_over_and_completes_it():
   # expert_sweep's seed 2. Seed 1 completed until the twentieth session's mate choice;
   # since, the back's carry to the turned chair folds the arm in beside the base (its
-  # fourth joint at -2.84 rad) and the back falls (4 of 5 connections). The Panda's chairs on tuning seeds 0-9: 26/60 for
-  # six models against 23/60 before; pine_high 6/10.
+  # fourth joint at -2.84 rad) and the back falls (4 of 5 connections). The Panda's
+  # chairs on tuning seeds 0-9: 26/60 for six models against 23/60 before; pine_high 6/10.
   env = ikea_suite.load(CHAIR, "panda", scale=0.5, seed=2)
   expert = experts.make_expert(env)
   timestep, phases = env.reset(), set()
@@ -83,13 +84,9 @@ def test_the_chair_is_rolled_so_that_its_back_slot_lies_out_of_the_base_s_way():
   # brought there (the third joint at its limit) and both twists stalled (4 of 5
   # connections). The turn-over now counts a slot rolled inside 0.45 m of the base.
   env = ikea_suite.load("chair_back_ivar", "panda", scale=0.5, seed=3)
-  expert = experts.make_expert(env)
-  timestep = env.reset()
-  expert.reset()
   table, slot = env.task.furniture.connectors, None
   turned = False
-  while not timestep.last() and not env.task.state.complete:
-    timestep = env.step(expert(timestep))
+  for expert in helpers.expert_steps(env):
     if expert.phase == arm_controller.Phase.TURN_OVER:
       turned = True
     elif turned and slot is None:

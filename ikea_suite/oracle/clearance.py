@@ -68,12 +68,13 @@ class AssemblyClearance:
     task, physics = self._env.task, self._env.physics
     furniture = task.furniture
     pos, _ = self._robot.tcp_pose(physics, self._arm)
-    held = targets.part_corners(furniture, part, *targets.part_pose(physics, furniture, part))
+    positions, rotations = furniture.part_poses(physics)
+    held = targets.part_corners(furniture, part, positions[part], rotations[part])
     shifted = held[:, :2] + (waypoint[:2] - pos[:2])
     low, high = shifted.min(0) - margin, shifted.max(0) + margin
     bottom, blocking = held[:, 2].min(), -np.inf
     for other in targets.root_group(task):
-      corners = targets.parts_corners(physics, furniture, [other])
+      corners = targets.part_corners(furniture, other, positions[other], rotations[other])
       if (corners[:, 2].max() + clearance > bottom
           and (corners[:, :2].max(0) > low).all() and (corners[:, :2].min(0) < high).all()):
         blocking = max(blocking, corners[:, 2].max())
