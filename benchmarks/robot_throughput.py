@@ -5,15 +5,18 @@ smoothly varying random actions (state observations, no rendering); the same
 number of physics substeps stepped by mujoco.mj_step on the env's compiled
 model from the very states the env stepped from; their ratio; and the Python
 control cost per step: the robot's whole apply_action and, within it, the
-mink IK solve. Usage:
+IK step. Usage:
 
     python benchmarks/robot_throughput.py [--steps 500] [--furniture NAME] [--robots sawyer ...]
-        [--clock wall|cpu] [--repeats 1]
+        [--clock wall|cpu] [--repeats 1] [--block 25]
 
 --clock cpu times with this thread's CPU time instead of wall time: on a
 machine shared with other jobs, waiting for a core then counts on neither side.
---repeats N runs each row's actions N times from reset and keeps the least
-time of each column.
+--repeats N runs each row's actions N times from reset: the speeds are the least
+over the passes, env/raw the median of the passes' ratios, and control and IK
+come from one more pass with timers (time_robot). --block sets how many control steps each side runs before
+the other takes its turn (replay_timing); a block as long as --steps times a
+whole env pass, then a whole raw pass.
 
 References (table_lack; see the README's Robots section): the original IKEA environment
 reported Sawyer impedance 225, Sawyer IK 44 and Cursor 491 steps/s; robosuite
@@ -59,33 +62,40 @@ def smooth_actions(rng, steps, size, keep=0.9):
   return actions
 
 
-def time_robot(env, steps, rng, clock=time.perf_counter, repeats=1):
-  """(s per env step, s per raw substeps, substeps, s of apply_action, s of IK) per step.
+def time_robot(env, steps, rng, clock=time.perf_counter, repeats=1,
+               block=replay_timing.BLOCK):
+  """(s per env step, s per raw step, env/raw, substeps, s of apply_action, s of IK) per step.
 
-  With repeats > 1 the same actions run again from the same reset and each figure
-  is the least over the passes, which filters out passes slowed by other jobs.
+  Each pass runs the same actions from the same reset. The two speeds are each the least
+  over the passes, which filters out passes slowed by other jobs; the ratio is the median of
+  the passes' own ratios, each taken on env and raw sides that alternated on the same
+  machine. The control and IK figures come from one more pass, with timers wrapped round the
+  robot's apply_action and the IK step: kept out of the timed passes, their clock reads
+  (system calls under --clock cpu) do not load the env side.
   """
-  robot = env.task.robot
-  control = _Timer(robot.apply_action, clock)
-  robot.apply_action = control   # instance attribute shadows the method
-  ik = robot.ik if isinstance(robot, manipulator.Manipulator) else None   # the Cursor has none
-  solve = None
-  if ik is not None:
-    solve = _Timer(ik.step, clock)
-    ik.step = solve
   actions = smooth_actions(rng, steps, env.action_spec().shape[0])
   actions[:, -1] = -1.0   # no connect: measure stepping, not snapping
-  passes, seed_state = [], env.random_state.get_state()
+  seed_state = env.random_state.get_state()
+  passes = []
   for _ in range(repeats):
     env.random_state.set_state(seed_state)   # every pass resets to the same episode start
-    for timer in (control, solve):
-      if timer is not None:
-        timer.seconds = 0.0
-    env_seconds, raw_seconds, substeps = replay_timing.time_env_and_raw(env, actions, clock)
-    ik_seconds = 0.0 if solve is None else solve.seconds / steps
-    passes.append((env_seconds, raw_seconds, control.seconds / steps, ik_seconds))
-  env_seconds, raw_seconds, control_seconds, ik_seconds = np.min(passes, axis=0)
-  return env_seconds, raw_seconds, substeps, control_seconds, ik_seconds
+    passes.append(replay_timing.time_env_and_raw(env, actions, clock, block))
+  env_seconds, raw_seconds, substeps = np.array(passes).T
+  ratio = float(np.median(env_seconds / raw_seconds))
+  robot = env.task.robot
+  control = robot.apply_action = _Timer(robot.apply_action, clock)   # shadows the method
+  ik = robot.ik if isinstance(robot, manipulator.Manipulator) else None   # the Cursor has none
+  if ik is not None:
+    solve = ik.step = _Timer(ik.step, clock)
+  env.random_state.set_state(seed_state)
+  replay_timing.time_env_and_raw(env, actions, clock, block)
+  del robot.apply_action
+  ik_seconds = 0.0
+  if ik is not None:
+    del ik.step
+    ik_seconds = solve.seconds / steps
+  return (env_seconds.min(), raw_seconds.min(), ratio, int(substeps[0]),
+          control.seconds / steps, ik_seconds)
 
 
 def main():
@@ -95,13 +105,17 @@ def main():
   parser.add_argument("--robots", nargs="*", default=None)
   parser.add_argument("--modes", nargs="*", default=list(control_modes.MODES))
   parser.add_argument("--clock", choices=sorted(CLOCKS), default="wall")
-  parser.add_argument("--repeats", type=int, default=1, help="passes per row; least kept")
+  parser.add_argument("--repeats", type=int, default=1,
+                      help="timed passes per row: least times, median ratio")
+  parser.add_argument("--block", type=int, default=replay_timing.BLOCK,
+                      help="control steps per turn of the env and raw sides")
   args = parser.parse_args()
   robots = args.robots or ikea_suite.robot_names()
   rng = np.random.default_rng(0)
   header = (f"{'robot':8s} {'control mode':16s} {'substeps':>8s} {'env steps/s':>11s} "
             f"{'raw steps/s':>11s} {'env/raw':>7s} {'control ms':>10s} {'IK ms':>6s}")
-  print(f"furniture: {args.furniture}, clock: {args.clock}, repeats: {args.repeats}")
+  print(f"furniture: {args.furniture}, clock: {args.clock}, repeats: {args.repeats}, "
+        f"block: {args.block}")
   print(header)
   print("-" * len(header))
   for robot in robots:
@@ -109,10 +123,10 @@ def main():
     for mode in modes:
       options = {} if mode is None else {"control_mode": mode}
       env = ikea_suite.load(args.furniture, robot, seed=0, **options)
-      env_t, raw_t, substeps, control_t, ik_t = time_robot(
-          env, args.steps, rng, CLOCKS[args.clock], args.repeats)
+      env_t, raw_t, ratio, substeps, control_t, ik_t = time_robot(
+          env, args.steps, rng, CLOCKS[args.clock], args.repeats, args.block)
       print(f"{robot:8s} {mode or '-':16s} {substeps:8d} {1 / env_t:11.0f} {1 / raw_t:11.0f} "
-            f"{env_t / raw_t:7.2f} {1e3 * control_t:10.3f} {1e3 * ik_t:6.3f}", flush=True)
+            f"{ratio:7.2f} {1e3 * control_t:10.3f} {1e3 * ik_t:6.3f}", flush=True)
       env.close()
 
 

@@ -10,6 +10,7 @@ from dm_control import composer
 from dm_control.rl import control
 
 from ikea_suite import errors
+from ikea_suite import fresh_observable
 
 
 def check_action(action, spec, names, bounds=None):
@@ -70,6 +71,17 @@ def raw_handles(physics):
   if model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4:
     return None
   return model, data, data.warning.number   # a live view of the counts
+
+
+def _copying_reader(enabled):
+  """A callable giving an enabled observable's value as composer's buffer would hold it: a
+  copy (np.array copies, as the buffer does on insert), or the value itself where the
+  observable makes a new array on every read (fresh_observable.FreshGeneric, uncorrupted)."""
+  read = enabled.observation_callable
+  if isinstance(enabled.observable, fresh_observable.FreshGeneric) and (
+      enabled.observable.corruptor is None):
+    return read
+  return lambda: np.array(read())
 
 
 class Environment(composer.Environment):
@@ -149,7 +161,8 @@ class Environment(composer.Environment):
                for e in updater._enabled_list)
 
   def _direct_observables(self):
-    """[(name, observation callable)] when every enabled observable is plain, else None.
+    """[(name, callable giving the observation (_copying_reader))] when every enabled
+    observable is plain, else None.
 
     A plain observable (one-entry buffer, no delay, no aggregator, update interval 1)
     shows after each control step a copy of its value at the step's last substep, so
@@ -162,7 +175,7 @@ class Environment(composer.Environment):
           e.buffer_size == 1 and e.delay == 0 and e.update_interval == 1
           and e.observable.aggregator is None for e in updater._enabled_structure.values())
       self._plain_observables = (
-          [(name, e.observation_callable) for name, e in updater._enabled_structure.items()]
+          [(name, _copying_reader(e)) for name, e in updater._enabled_structure.items()]
           if plain else False)
     return self._plain_observables or None
 
@@ -202,8 +215,8 @@ class Environment(composer.Environment):
     self._hooks.after_step(self._physics_proxy, self._random_state)
     if direct is None:
       updater.update()
-    else:   # np.array copies, as the buffer does on insert
-      observation = {name: np.array(read()) for name, read in direct}
+    else:
+      observation = {name: read() for name, read in direct}
     if divergent:
       reward, discount, last = 0.0, 0.0, True
     else:

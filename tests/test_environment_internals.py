@@ -9,6 +9,7 @@ from dm_control.composer.observation import updater as updater_lib
 
 import ikea_suite
 from ikea_suite import environment
+from ikea_suite import fresh_observable
 
 FURNITURE = "table_four_leg_lack"
 
@@ -130,3 +131,24 @@ def test_an_observable_sampled_every_substep_gets_every_substep():
   buffered = first[1][f"{FURNITURE}/part_positions"]
   assert buffered.shape == (25, 5, 3)
   assert len({tuple(row.ravel()) for row in buffered}) == 25   # every substep, none repeated
+
+
+@pytest.mark.parametrize("robot", ["cursor", "panda", "baxter"])
+def test_every_fresh_observable_makes_a_new_array_on_every_read(robot):
+  # The direct path hands these out without a copy: a view of the physics or of a stored
+  # array would change under the learner's feet, or be changed by it.
+  env = ikea_suite.load(FURNITURE, robot, seed=0)
+  env.reset()
+  physics = env.physics
+  fresh = {name: e for name, e in env._observation_updater._enabled_structure.items()
+           if isinstance(e.observable, fresh_observable.FreshGeneric)}
+  assert len(fresh) >= 6
+  state = [physics.data.qpos, physics.data.qvel, physics.data.xpos, physics.data.xquat,
+           physics.data.site_xpos, physics.data.site_xmat]
+  for name, enabled in fresh.items():
+    first, second = enabled.observation_callable(), enabled.observation_callable()
+    assert first is not second, name
+    assert not np.shares_memory(first, second), name
+    assert not any(np.shares_memory(first, array) for array in state), name
+    first[...] = 7.0   # a learner writing into its observation changes nothing else
+    np.testing.assert_array_equal(enabled.observation_callable(), second, err_msg=name)

@@ -4,8 +4,9 @@
 import numpy as np
 from dm_control import composer
 from dm_control import mjcf
-from dm_control.composer.observation import observable
 
+from ikea_suite import fresh_observable
+from ikea_suite import mujoco_arrays
 from ikea_suite.props import connector_table
 from ikea_suite.props import model_format
 from ikea_suite.props import part as part_lib
@@ -52,6 +53,8 @@ class Furniture(composer.Entity):
     joints = physics.model.body_jntadr[self._body_ids]
     self._qpos_adr = physics.model.jnt_qposadr[joints][:, None] + np.arange(7)
     self._dof_adr = physics.model.jnt_dofadr[joints][:, None] + np.arange(6)
+    self._arrays = mujoco_arrays.ArrayViews("xpos", "xquat")   # the observables' reads
+    self._body_rows = mujoco_arrays.compact_index(self._body_ids)
 
   def set_part_pose(self, physics, part, position, quaternion):
     """Puts part `part` (index) at a world pose and stops it; call physics.forward() after."""
@@ -99,6 +102,14 @@ class Furniture(composer.Entity):
     """(geom ids, part index of each) of the parts' collision geoms, valid after compilation."""
     return self._collision_geoms, self._collision_geom_parts
 
+  def part_positions(self, physics):
+    """(parts, 3) world positions of the parts (a copy)."""
+    return self._arrays(physics)[0][self._body_rows].copy()
+
+  def part_quaternions(self, physics):
+    """(parts, 4) world orientations of the parts, w x y z (a copy)."""
+    return self._arrays(physics)[1][self._body_rows].copy()
+
   def part_poses(self, physics):
     """World positions (n, 3) and rotation matrices (n, 3, 3) of all parts."""
     data = physics.data
@@ -110,9 +121,8 @@ class FurnitureObservables(composer.Observables):
 
   @composer.observable
   def part_positions(self):
-    # Indexing by the id array copies: the value does not change as the physics steps.
-    return observable.Generic(lambda physics: physics.data.xpos[self._entity.body_ids])
+    return fresh_observable.FreshGeneric(self._entity.part_positions)
 
   @composer.observable
   def part_quaternions(self):
-    return observable.Generic(lambda physics: physics.data.xquat[self._entity.body_ids])
+    return fresh_observable.FreshGeneric(self._entity.part_quaternions)

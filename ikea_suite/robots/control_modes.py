@@ -26,6 +26,7 @@ import numpy as np
 
 from ikea_suite import errors
 from ikea_suite import geometry
+from ikea_suite.robots.compiled_kernels import kernels
 
 TASK_SPACE = "task_space"
 TASK_SPACE_POSE = "task_space_pose"
@@ -75,6 +76,8 @@ class TaskSpaceTargets:
     self._workspace = np.asarray(workspace, dtype=float)   # (num_arms, 2, 3) world boxes
     self._low, self._high = self._workspace[:, 0].tolist(), self._workspace[:, 1].tolist()
     self._max_lag = max_lag
+    self.use_compiled = kernels is not None   # tests turn it off to compare with the Python
+    self._turns = np.zeros((num_arms, 3, 3))   # the compiled path's turn of each arm's target
 
   @property
   def pos(self):
@@ -107,6 +110,14 @@ class TaskSpaceTargets:
   def apply_deltas(self, actions, tcp_pos):
     """Moves every arm's target by its delta action; actions (arms, >= 6), tcp_pos (arms, 3)."""
     step, turn, low, high = self._max_translation, self._max_rotation, self._low, self._high
+    if self.use_compiled:   # compiled_kernels.delta_target: the loop below, arm by arm
+      moves = np.asarray(actions)[:, :6]
+      for i, (move, tcp, turning) in enumerate(zip(moves, tcp_pos, self._turns)):
+        self._pos[i], turned = kernels.delta_target(
+            self._pos[i], move, tcp, step, turn, self._max_lag, low[i], high[i], turning)
+        if turned:
+          self._rot[i] = turning @ self._rot[i]
+      return
     for i, (move, tcp) in enumerate(zip(actions[:, :6].tolist(), tcp_pos.tolist())):
       p = self._pos[i]
       target = [p[0] + move[0] * step, p[1] + move[1] * step, p[2] + move[2] * step]
@@ -123,6 +134,9 @@ class TaskSpaceTargets:
     """Every arm's target in the frame at `origin` (3 floats) turned by `rotation` (9
     floats, row-major), both world frame: [(position (3 floats), rotation (9 floats,
     row-major))], as DifferentialIK.step takes."""
+    if self.use_compiled:   # compiled_kernels.in_frame: the loop below, arm by arm
+      return [kernels.in_frame(pos, rot, origin, rotation)
+              for pos, rot in zip(self._pos, self._rot.reshape(-1, 9))]
     r0, r1, r2, r3, r4, r5, r6, r7, r8 = rotation
     ox, oy, oz = origin
     out = []

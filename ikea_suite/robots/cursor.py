@@ -10,8 +10,8 @@ an action of 1; actions outside [-1, 1] are clipped by the environment.
 import numpy as np
 from dm_control import composer
 from dm_control import mjcf
-from dm_control.composer.observation import observable
 
+from ikea_suite import fresh_observable
 from ikea_suite import geometry
 from ikea_suite import options
 from ikea_suite import physics_settings
@@ -230,12 +230,12 @@ class CursorObservables(composer.Observables):
 
   @composer.observable
   def cursor_positions(self):
-    return observable.Generic(self._entity.cursor_positions)
+    return fresh_observable.FreshGeneric(self._entity.cursor_positions)
 
   @composer.observable
   def cursor_quaternions(self):
-    return observable.Generic(self._entity.cursor_quaternions)
+    return fresh_observable.FreshGeneric(self._entity.cursor_quaternions)
 
   @composer.observable
   def cursor_held_parts(self):
-    return observable.Generic(lambda physics: self._entity.held_parts.astype(np.float64))
+    return fresh_observable.FreshGeneric(lambda physics: self._entity.held_parts.astype(np.float64))

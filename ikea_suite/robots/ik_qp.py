@@ -17,6 +17,8 @@ import daqp
 import mujoco
 import numpy as np
 
+from ikea_suite.robots import compiled_kernels
+
 _EPS = 1e-10   # mink's small-angle threshold (mink/lie/utils.py, float64)
 _INF = 1e30    # DAQP reads bounds this large as absent
 
@@ -118,6 +120,35 @@ def frame_residual(pos, mat, target_pos, target_mat):
   return error, so3, _mul3(so3, _mul3(q, so3))
 
 
+def frame_rows(pos, mat, target_pos, target_mat, cost):
+  """One frame task's share of the QP: (error, block), in Python floats.
+
+  error: frame_residual's (6-tuple). block: cost * [[B, -C], [0, B]] @ diag(R^T, R^T) as a
+  row-major 6x6 36-tuple, with B, C frame_residual's factor and R = `mat` (the site's
+  rotation, 9 floats row-major): multiplied by mj_jacSite's world-aligned Jacobian it gives
+  the site's rows of DirectQP's w, the Jacobian turned into the site frame (mink's body
+  Jacobian) on the way. `cost`: the task's six costs.
+  """
+  m = mat
+  error, block, corner = frame_residual(pos, m, target_pos, target_mat)
+  t0, t1, t2, t3, t4, t5, t6, t7, t8 = _mul3(
+      block, (m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]))
+  s0, s1, s2, s3, s4, s5, s6, s7, s8 = (0.0,) * 9 if corner is None else _mul3(
+      corner, (-m[0], -m[3], -m[6], -m[1], -m[4], -m[7], -m[2], -m[5], -m[8]))
+  c0, c1, c2, c3, c4, c5 = cost
+  return error, (c0 * t0, c0 * t1, c0 * t2, c0 * s0, c0 * s1, c0 * s2,
+                 c1 * t3, c1 * t4, c1 * t5, c1 * s3, c1 * s4, c1 * s5,
+                 c2 * t6, c2 * t7, c2 * t8, c2 * s6, c2 * s7, c2 * s8,
+                 0.0, 0.0, 0.0, c3 * t0, c3 * t1, c3 * t2,
+                 0.0, 0.0, 0.0, c4 * t3, c4 * t4, c4 * t5,
+                 0.0, 0.0, 0.0, c5 * t6, c5 * t7, c5 * t8)
+
+
+# Compiled twins of frame_rows and of assemble's element-wise end where the install built
+# them (compiled_kernels), else None; tests/test_ik.py checks that they agree to the bit.
+compiled = compiled_kernels.kernels
+
+
 class DirectQP:
   """mink.build_ik's QP for frame tasks on sites, a posture task and box limits, solved by DAQP.
 
@@ -135,6 +166,11 @@ class DirectQP:
     self._sites = [int(s) for s in site_ids]
     nv = model.nv
     self._jac = np.zeros((len(self._sites), 6, nv))
+    # Views fetched once (each MjData attribute read builds a new numpy view): the
+    # positional and rotational Jacobian rows of each site, and what assemble reads.
+    self._jac_rows = [(self._jac[i, :3], self._jac[i, 3:]) for i in range(len(self._sites))]
+    data = self._data
+    self._qpos, self._site_xpos, self._site_xmat = data.qpos, data.site_xpos, data.site_xmat
     cost = np.array([t.cost for t in frame_tasks], dtype=float)              # (arms, 6)
     self._cost_rows = cost.tolist()
     # mink's weighted error is cost * (-gain * error).
@@ -153,6 +189,16 @@ class DirectQP:
     self._speed[velocity_limit.indices] = velocity_limit.limit
     self._caps = {}   # (dt, velocity_limited) -> +-speed bound per coordinate, capped at _INF
     self._no_rows = np.zeros((0, nv))
+    self.use_compiled = compiled is not None   # tests turn it off to compare with the Python
+    # The compiled path's buffers: each site's block, w (their product with the Jacobians,
+    # as (sites, 6, nv) and as w's rows) and the weighted errors.
+    self._blocks = np.zeros((len(self._sites), 6, 6))
+    self._block_rows = list(self._blocks.reshape(len(self._sites), 36))
+    self._w = np.zeros((len(self._sites), 6, nv))
+    self._w_rows = self._w.reshape(-1, nv)
+    self._weighted = np.zeros(6 * len(self._sites))
+    self._weighted_rows = list(self._weighted.reshape(-1, 6))
+    self._weight_rows = list(self._error_weight.reshape(-1, 6))
     self._sense = np.zeros(nv, dtype=np.intc)
 
   def set_posture_target(self, q):
@@ -162,52 +208,65 @@ class DirectQP:
     """(H, c, lower, upper) of the QP at q (within the limits); see `solve`."""
     if self._posture_offset is None:
       raise ValueError("the posture target is not set (DifferentialIK.set_posture)")
-    model, data, jac = self._model, self._data, self._jac
-    data.qpos[:] = q
+    model, data = self._model, self._data
+    self._qpos[:] = q
     mujoco.mj_kinematics(model, data)
     mujoco.mj_comPos(model, data)   # mj_jacSite reads the com-based frames
-    errors, blocks = [], []
-    xpos, xmat = data.site_xpos, data.site_xmat
-    for i, (site, (pos, rot), cost) in enumerate(zip(self._sites, targets, self._cost_rows)):
-      mujoco.mj_jacSite(model, data, jac[i, :3], jac[i, 3:], site)
-      if isinstance(pos, np.ndarray):
-        pos = pos.tolist()
-      if isinstance(rot, np.ndarray) or len(rot) != 9:
-        rot = np.asarray(rot, dtype=float).reshape(9).tolist()
-      m = xmat[site].tolist()
-      error, block, corner = frame_residual(xpos[site].tolist(), m, pos, rot)
-      errors += error
-      # cost * [[block, -corner], [0, block]] @ diag(R^T, R^T): mj_jacSite's world-aligned
-      # Jacobian turned into the site frame (mink's body Jacobian) on the way.
-      t0, t1, t2, t3, t4, t5, t6, t7, t8 = _mul3(
-          block, (m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]))
-      s0, s1, s2, s3, s4, s5, s6, s7, s8 = (0.0,) * 9 if corner is None else _mul3(
-          corner, (-m[0], -m[3], -m[6], -m[1], -m[4], -m[7], -m[2], -m[5], -m[8]))
-      c0, c1, c2, c3, c4, c5 = cost
-      blocks.append((c0 * t0, c0 * t1, c0 * t2, c0 * s0, c0 * s1, c0 * s2,
-                     c1 * t3, c1 * t4, c1 * t5, c1 * s3, c1 * s4, c1 * s5,
-                     c2 * t6, c2 * t7, c2 * t8, c2 * s6, c2 * s7, c2 * s8,
-                     0.0, 0.0, 0.0, c3 * t0, c3 * t1, c3 * t2,
-                     0.0, 0.0, 0.0, c4 * t3, c4 * t4, c4 * t5,
-                     0.0, 0.0, 0.0, c5 * t6, c5 * t7, c5 * t8))
+    for site, (jacp, jacr) in zip(self._sites, self._jac_rows):
+      mujoco.mj_jacSite(model, data, jacp, jacr, site)
     # w is minus mink's weighted Jacobian W: H = W^T W = w^T w and
     # c = -(weighted error) @ W = (weighted error) @ w.
-    w = (np.array(blocks).reshape(-1, 6, 6) @ jac).reshape(-1, model.nv)
+    w, weighted = (self._rows_compiled if self.use_compiled else self._rows)(targets)
     h = w.T @ w
-    h += self._diagonal
-    c = (self._error_weight * errors) @ w
-    c += self._posture_weight * q
-    c -= self._posture_offset
+    c = weighted @ w
     # mink's ConfigurationLimit and VelocityLimit rows, intersected per coordinate.
     key = (dt, velocity_limited)
     if key not in self._caps:
-      cap = np.minimum(self._speed * dt if velocity_limited else np.inf, _INF)
+      cap = np.minimum(self._speed * dt if velocity_limited else np.full(model.nv, np.inf), _INF)
       self._caps[key] = cap, -cap
     cap, floor = self._caps[key]
+    if self.use_compiled:
+      upper, lower = np.empty(model.nv), np.empty(model.nv)
+      compiled.qp_finish(h, c, np.ascontiguousarray(q, dtype=float), self._diagonal,
+                         self._posture_weight, self._posture_offset, self._limit_gain,
+                         self._gain_upper, self._gain_lower, cap, floor, upper, lower)
+      return h, c, lower, upper
+    h += self._diagonal
+    c += self._posture_weight * q
+    c -= self._posture_offset
     gain_q = self._limit_gain * q
     upper = np.minimum(self._gain_upper - gain_q, cap)
     lower = np.maximum(self._gain_lower - gain_q, floor)
     return h, c, lower, upper
+
+  def _rows(self, targets):
+    """(w, weighted errors) of the frame tasks, by frame_rows in Python floats."""
+    errors, blocks = [], []
+    xpos, xmat = self._site_xpos, self._site_xmat
+    for site, (pos, rot), cost in zip(self._sites, targets, self._cost_rows):
+      if isinstance(pos, np.ndarray):
+        pos = pos.tolist()
+      if isinstance(rot, np.ndarray) or len(rot) != 9:
+        rot = np.asarray(rot, dtype=float).reshape(9).tolist()
+      error, block = frame_rows(xpos[site].tolist(), xmat[site].tolist(), pos, rot, cost)
+      errors += error
+      blocks.append(block)
+    w = (np.array(blocks).reshape(-1, 6, 6) @ self._jac).reshape(-1, self._model.nv)
+    return w, self._error_weight * errors
+
+  def _rows_compiled(self, targets):
+    """`_rows` by the compiled frame_rows, written into kept buffers (the same numbers)."""
+    xpos, xmat = self._site_xpos, self._site_xmat
+    for site, (pos, rot), cost, weight, block, weighted in zip(
+        self._sites, targets, self._cost_rows, self._weight_rows, self._block_rows,
+        self._weighted_rows):
+      if not isinstance(pos, list):   # lists of floats, as in_frame gives, are read as they are
+        pos = np.asarray(pos, dtype=float).reshape(3)
+      if not isinstance(rot, list) or len(rot) != 9:
+        rot = np.asarray(rot, dtype=float).reshape(9)
+      compiled.frame_rows_into(xpos[site], xmat[site], pos, rot, cost, weight, block, weighted)
+    np.matmul(self._blocks, self._jac, out=self._w)
+    return self._w_rows, self._weighted
 
   def solve(self, q, targets, dt, velocity_limited=True):
     """The step displacement from q (within the limits) towards `targets`, or None.

@@ -14,6 +14,7 @@ import numpy as np
 
 from ikea_suite import errors
 from ikea_suite import geometry
+from ikea_suite import mujoco_arrays
 from ikea_suite import options
 from ikea_suite import physics_settings
 from ikea_suite.robots import arm_actuators
@@ -223,10 +224,24 @@ class Manipulator(work_area.WorkArea, base.Robot):
     self._finger_travel = np.array([g.squeeze_qpos - g.open_qpos for g in grips])
     self._finger_closed = np.array([g.closed_qpos for g in grips])
     self._finger_span = np.array([g.open_qpos - g.closed_qpos for g in grips])
+    # The same figures as Python floats, one row per arm, for the per-step gripper command
+    # and opening (a handful of numbers: each numpy call would cost more than its arithmetic).
+    self._finger_rows = [list(zip(qpos, closed, span)) for qpos, closed, span in zip(
+        self._finger_qpos.tolist(), self._finger_closed.tolist(), self._finger_span.tolist())]
+    self._finger_command = [(act, list(zip(opened, travel))) for act, opened, travel in zip(
+        self._finger_act.tolist(), self._finger_open.tolist(), self._finger_travel.tolist())]
     # One fancy assignment writes every arm's joint targets from the IK's joint vector.
     self._arm_act_flat = self._arm_act.ravel()
     self._arm_from_ik = self._ik.qpos_index[self._arm_ik].ravel()
     self._tcp_ids = np.array(bind([a.gripper.tcp_site for a in self._arms]).element_id)
+    # What the per-step paths read and write, as kept views and slices where they can be.
+    self._arrays = mujoco_arrays.ArrayViews("qpos", "qvel", "ctrl", "site_xpos", "site_xmat")
+    self._tcp_rows = mujoco_arrays.compact_index(self._tcp_ids)
+    self._ik_qpos_rows = mujoco_arrays.compact_index(self._ik_to_qpos)
+    self._arm_act_rows = mujoco_arrays.compact_index(self._arm_act_flat)
+    self._arm_from_ik_rows = mujoco_arrays.compact_index(self._arm_from_ik)
+    self._arm_qpos_rows = mujoco_arrays.compact_index(self._arm_qpos)
+    self._arm_dof_rows = mujoco_arrays.compact_index(self._arm_dof)
     self._finger_bodies = [np.array(bind([j.parent for j in a.gripper.joints]).element_id)
                            for a in self._arms]
     self._finger_table = grippers.finger_of_body(physics, self._finger_bodies)
@@ -266,7 +281,7 @@ class Manipulator(work_area.WorkArea, base.Robot):
     action = np.asarray(action).reshape(len(self._arms), -1)
     data = physics.data
     if self._mode in control_modes.DELTA_TARGETS:
-      self._targets.apply_deltas(action, data.site_xpos[self._tcp_ids])
+      self._targets.apply_deltas(action, self._arrays(physics)[3][self._tcp_rows])
     elif self._mode == control_modes.TASK_SPACE_POSE:
       for i in range(len(self._arms)):
         self._targets.apply_pose(i, action[i], self._base_rot @ self._home_rot[i])
@@ -281,16 +296,19 @@ class Manipulator(work_area.WorkArea, base.Robot):
     else:
       for i, arm in enumerate(self._arms):
         data.ctrl[self._arm_act[i]] = action[i, :-1] * arm.torque_limits
-    # grippers.command for every arm at once.
-    fraction = (np.minimum(np.maximum(action[:, -1:], -1.0), 1.0) + 1.0) / 2.0
-    data.ctrl[self._finger_act] = self._finger_open + fraction * self._finger_travel
+    # grippers.command for every arm, in Python floats.
+    ctrl = self._arrays(physics)[2]
+    for squeeze, (actuators, fingers) in zip(action[:, -1].tolist(), self._finger_command):
+      fraction = (min(max(squeeze, -1.0), 1.0) + 1.0) / 2.0
+      for actuator, (opened, travel) in zip(actuators, fingers):
+        ctrl[actuator] = opened + fraction * travel
 
   def _track_task_space(self, physics):
     """Joint targets for the position actuators from the task-space targets, by IK."""
-    data = physics.data
+    qpos, _, ctrl, _, _ = self._arrays(physics)
     targets = self._targets.in_frame(self._base_pos_floats, self._base_rot_floats)
-    q = self._ik.step(data.qpos[self._ik_to_qpos], targets, self._dt)
-    data.ctrl[self._arm_act_flat] = q[self._arm_from_ik]
+    q = self._ik.step(qpos[self._ik_qpos_rows], targets, self._dt)   # step copies it
+    ctrl[self._arm_act_rows] = q[self._arm_from_ik_rows]
 
   # -- state readers ---------------------------------------------------------------
 
@@ -367,7 +385,7 @@ class Manipulator(work_area.WorkArea, base.Robot):
 
   def tcp_positions(self, physics):
     """(arms, 3) tool-centre-point positions."""
-    return physics.data.site_xpos[self._tcp_ids]   # indexing by an id array copies
+    return self._arrays(physics)[3][self._tcp_rows].copy()
 
   def tool_positions(self, physics):
     return self.tcp_positions(physics)
@@ -379,17 +397,23 @@ class Manipulator(work_area.WorkArea, base.Robot):
   def tcp_quaternions(self, physics):
     """(arms, 4) tool-centre-point orientations, w x y z."""
     quats = np.empty((len(self._arms), 4))
-    for i, site in enumerate(self._tcp_ids):
-      mujoco.mju_mat2Quat(quats[i], physics.data.site_xmat[site])
+    xmat = self._arrays(physics)[4]
+    for i, site in enumerate(self._tcp_ids.tolist()):
+      mujoco.mju_mat2Quat(quats[i], xmat[site])
     return quats
 
   def gripper_openings(self, physics):
-    """(arms,) gripper openings, 1 open .. 0 closed (grippers.opening of every arm at once)."""
-    fraction = (physics.data.qpos[self._finger_qpos] - self._finger_closed) / self._finger_span
-    return np.add.reduce(np.minimum(np.maximum(fraction, 0.0), 1.0), axis=1) / fraction.shape[1]
+    """(arms,) gripper openings, 1 open .. 0 closed (grippers.opening of every arm)."""
+    qpos = self._arrays(physics)[0]
+    openings = []
+    for fingers in self._finger_rows:
+      fractions = [min(max((qpos.item(i) - closed) / span, 0.0), 1.0)
+                   for i, closed, span in fingers]
+      openings.append(sum(fractions) / len(fractions))
+    return np.array(openings)
 
   def joint_positions(self, physics):
-    return physics.data.qpos[self._arm_qpos].ravel()   # indexing by an array copies
+    return self._arrays(physics)[0][self._arm_qpos_rows].copy()
 
   def joint_velocities(self, physics):
-    return physics.data.qvel[self._arm_dof].ravel()
+    return self._arrays(physics)[1][self._arm_dof_rows].copy()

@@ -3,6 +3,8 @@
 from dm_control import composer
 from dm_control.composer.observation import observable
 
+from ikea_suite import fresh_observable
+
 
 class ManipulatorObservables(composer.Observables):
   """Arm joint positions and velocities, tool poses, gripper openings; wrist cameras on request."""
@@ -17,20 +19,20 @@ class ManipulatorObservables(composer.Observables):
 
   @composer.observable
   def joint_positions(self):
-    return observable.Generic(self._entity.joint_positions)
+    return fresh_observable.FreshGeneric(self._entity.joint_positions)
 
   @composer.observable
   def joint_velocities(self):
-    return observable.Generic(self._entity.joint_velocities)
+    return fresh_observable.FreshGeneric(self._entity.joint_velocities)
 
   @composer.observable
   def tcp_positions(self):
-    return observable.Generic(self._entity.tcp_positions)
+    return fresh_observable.FreshGeneric(self._entity.tcp_positions)
 
   @composer.observable
   def tcp_quaternions(self):
-    return observable.Generic(self._entity.tcp_quaternions)
+    return fresh_observable.FreshGeneric(self._entity.tcp_quaternions)
 
   @composer.observable
   def gripper_opening(self):
-    return observable.Generic(self._entity.gripper_openings)
+    return fresh_observable.FreshGeneric(self._entity.gripper_openings)
