@@ -9,6 +9,10 @@ kinematics and a handful of stacked numpy operations, the Lie-group formulas
 mirroring mink's (mink/lie/se3.py, so3.py). Every mink limit here bounds one
 tangent coordinate, so the inequalities are a box, which DAQP takes as simple
 bounds. tests/test_ik.py checks the step against mink.build_ik + qpsolvers.
+
+Where the install built robots/_ik_kernels.c (compiled_kernels), its twins of
+frame_rows and of assemble's element-wise end run instead of the Python: the same
+numbers, bit for bit, in a fraction of the time.
 """
 
 import math
