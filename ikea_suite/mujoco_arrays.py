@@ -7,26 +7,30 @@ fancy-indexing machinery. With kept views and slices the Panda's observations co
 30 us less per control step (benchmarks/robot_throughput.py's conditions).
 """
 
+import collections
+
 import numpy as np
 
 
 class ArrayViews:
   """Named arrays of a physics' MjData as numpy views into MuJoCo's buffers.
 
-  `views(physics)` returns them in the order named. They are fetched again only when
-  `physics.data` is another object than last time (another physics, or a recompiled one).
+  `views(physics)` returns them as a named tuple (`views(physics).qpos`). They are fetched
+  again only when `physics.data` is another object than last time (another physics, or a
+  recompiled one).
   """
 
-  __slots__ = ("_names", "_data", "_arrays")
+  __slots__ = ("_type", "_data", "_arrays")
 
   def __init__(self, *names):
-    self._names, self._data, self._arrays = names, None, ()
+    self._type = collections.namedtuple("MjDataViews", names)
+    self._data, self._arrays = None, None
 
   def __call__(self, physics):
     data = physics.data
     if data is not self._data:
       raw = data.ptr
-      self._arrays = tuple(getattr(raw, name) for name in self._names)
+      self._arrays = self._type(*(getattr(raw, name) for name in self._type._fields))
       self._data = data
     return self._arrays
 

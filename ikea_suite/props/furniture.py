@@ -104,11 +104,11 @@ class Furniture(composer.Entity):
 
   def part_positions(self, physics):
     """(parts, 3) world positions of the parts (a copy)."""
-    return self._arrays(physics)[0][self._body_rows].copy()
+    return self._arrays(physics).xpos[self._body_rows].copy()
 
   def part_quaternions(self, physics):
     """(parts, 4) world orientations of the parts, w x y z (a copy)."""
-    return self._arrays(physics)[1][self._body_rows].copy()
+    return self._arrays(physics).xquat[self._body_rows].copy()
 
   def part_poses(self, physics):
     """World positions (n, 3) and rotation matrices (n, 3, 3) of all parts."""

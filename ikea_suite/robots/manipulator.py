@@ -281,7 +281,7 @@ class Manipulator(work_area.WorkArea, base.Robot):
     action = np.asarray(action).reshape(len(self._arms), -1)
     data = physics.data
     if self._mode in control_modes.DELTA_TARGETS:
-      self._targets.apply_deltas(action, self._arrays(physics)[3][self._tcp_rows])
+      self._targets.apply_deltas(action, self._arrays(physics).site_xpos[self._tcp_rows])
     elif self._mode == control_modes.TASK_SPACE_POSE:
       for i in range(len(self._arms)):
         self._targets.apply_pose(i, action[i], self._base_rot @ self._home_rot[i])
@@ -297,7 +297,7 @@ class Manipulator(work_area.WorkArea, base.Robot):
       for i, arm in enumerate(self._arms):
         data.ctrl[self._arm_act[i]] = action[i, :-1] * arm.torque_limits
     # grippers.command for every arm, in Python floats.
-    ctrl = self._arrays(physics)[2]
+    ctrl = self._arrays(physics).ctrl
     for squeeze, (actuators, fingers) in zip(action[:, -1].tolist(), self._finger_command):
       fraction = (min(max(squeeze, -1.0), 1.0) + 1.0) / 2.0
       for actuator, (opened, travel) in zip(actuators, fingers):
@@ -305,10 +305,10 @@ class Manipulator(work_area.WorkArea, base.Robot):
 
   def _track_task_space(self, physics):
     """Joint targets for the position actuators from the task-space targets, by IK."""
-    qpos, _, ctrl, _, _ = self._arrays(physics)
+    arrays = self._arrays(physics)
     targets = self._targets.in_frame(self._base_pos_floats, self._base_rot_floats)
-    q = self._ik.step(qpos[self._ik_qpos_rows], targets, self._dt)   # step copies it
-    ctrl[self._arm_act_rows] = q[self._arm_from_ik_rows]
+    q = self._ik.step(arrays.qpos[self._ik_qpos_rows], targets, self._dt)   # step copies it
+    arrays.ctrl[self._arm_act_rows] = q[self._arm_from_ik_rows]
 
   # -- state readers ---------------------------------------------------------------
 
@@ -385,7 +385,7 @@ class Manipulator(work_area.WorkArea, base.Robot):
 
   def tcp_positions(self, physics):
     """(arms, 3) tool-centre-point positions."""
-    return self._arrays(physics)[3][self._tcp_rows].copy()
+    return self._arrays(physics).site_xpos[self._tcp_rows].copy()
 
   def tool_positions(self, physics):
     return self.tcp_positions(physics)
@@ -397,14 +397,14 @@ class Manipulator(work_area.WorkArea, base.Robot):
   def tcp_quaternions(self, physics):
     """(arms, 4) tool-centre-point orientations, w x y z."""
     quats = np.empty((len(self._arms), 4))
-    xmat = self._arrays(physics)[4]
+    xmat = self._arrays(physics).site_xmat
     for i, site in enumerate(self._tcp_ids.tolist()):
       mujoco.mju_mat2Quat(quats[i], xmat[site])
     return quats
 
   def gripper_openings(self, physics):
     """(arms,) gripper openings, 1 open .. 0 closed (grippers.opening of every arm)."""
-    qpos = self._arrays(physics)[0]
+    qpos = self._arrays(physics).qpos
     openings = []
     for fingers in self._finger_rows:
       fractions = [min(max((qpos.item(i) - closed) / span, 0.0), 1.0)
@@ -413,7 +413,7 @@ class Manipulator(work_area.WorkArea, base.Robot):
     return np.array(openings)
 
   def joint_positions(self, physics):
-    return self._arrays(physics)[0][self._arm_qpos_rows].copy()
+    return self._arrays(physics).qpos[self._arm_qpos_rows].copy()
 
   def joint_velocities(self, physics):
-    return self._arrays(physics)[1][self._arm_dof_rows].copy()
+    return self._arrays(physics).qvel[self._arm_dof_rows].copy()
