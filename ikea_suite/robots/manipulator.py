@@ -1,13 +1,12 @@
 """The common body of every arm robot: actuators per control mode, IK, observables, reset.
 
-A subclass builds its MJCF in `_build_body` and returns one `Arm` per arm.
+A subclass builds its MJCF in `_build_body` and returns one `arm_parts.Arm` per arm.
 Everything else (action spec, control modes, wrist cameras, the part
 placement the robot can reach) is shared. Controls and targets are set once per
 control step in `apply_action`; MuJoCo's actuators (arm_actuators) act on them
 during the substeps, so no Python runs per physics substep."""
 
 import copy
-import dataclasses
 
 import mujoco
 import numpy as np
@@ -26,29 +25,6 @@ from ikea_suite.robots import manipulator_observables
 from ikea_suite.robots import work_area
 
 _HOME_CACHE = {}
-
-
-@dataclasses.dataclass
-class Arm:
-  prefix: str                 # action-name prefix: "" or "right_" / "left_"
-  joints: list                # joint elements, base to wrist
-  torque_limits: np.ndarray   # N m per joint
-  gripper: grippers.GripperParts
-  camera: object              # wrist camera element
-  seed: np.ndarray            # joint angles near the home pose, refined by IK
-  home_tcp: np.ndarray        # home tool-centre point in the base frame
-  workspace: np.ndarray       # (2, 3) box in the base frame the tool is kept in
-  impedance_target: object = None   # the target site of impedance mode (arm_actuators)
-
-
-def single_arm(root, elements, limits, joints, gripper_spec, seed, home_tcp, workspace_box):
-  """The one Arm of a single-arm robot whose joints, hand and camera follow the sheets' names."""
-  gripper = grippers.build(elements["right_hand"], gripper_spec, prefix="right_")
-  return Arm(
-      prefix="", joints=[root.find("joint", j) for j in joints],
-      torque_limits=np.array([limits[j][1] for j in joints]), gripper=gripper,
-      camera=root.find("camera", "eye_in_hand"), seed=np.array(seed),
-      home_tcp=np.array(home_tcp), workspace=np.array(workspace_box))
 
 
 class Manipulator(work_area.WorkArea, base.Robot):
@@ -220,26 +196,24 @@ class Manipulator(work_area.WorkArea, base.Robot):
     self._finger_qpos = np.array([bind(a.gripper.joints).qposadr for a in self._arms])
     self._finger_act = np.array([bind(a.gripper.actuators).element_id for a in self._arms])
     grips = [a.gripper for a in self._arms]
-    self._finger_open = np.array([g.open_qpos for g in grips])                  # (arms, fingers)
-    self._finger_travel = np.array([g.squeeze_qpos - g.open_qpos for g in grips])
-    self._finger_closed = np.array([g.closed_qpos for g in grips])
-    self._finger_span = np.array([g.open_qpos - g.closed_qpos for g in grips])
-    # The same figures as Python floats, one row per arm, for the per-step gripper command
-    # and opening (a handful of numbers: each numpy call would cost more than its arithmetic).
-    self._finger_rows = [list(zip(qpos, closed, span)) for qpos, closed, span in zip(
-        self._finger_qpos.tolist(), self._finger_closed.tolist(), self._finger_span.tolist())]
-    self._finger_command = [(act, list(zip(opened, travel))) for act, opened, travel in zip(
-        self._finger_act.tolist(), self._finger_open.tolist(), self._finger_travel.tolist())]
-    # One fancy assignment writes every arm's joint targets from the IK's joint vector.
-    self._arm_act_flat = self._arm_act.ravel()
-    self._arm_from_ik = self._ik.qpos_index[self._arm_ik].ravel()
+    opened = np.array([g.open_qpos for g in grips])                  # (arms, fingers)
+    travel = np.array([g.squeeze_qpos - g.open_qpos for g in grips])
+    closed = np.array([g.closed_qpos for g in grips])
+    span = np.array([g.open_qpos - g.closed_qpos for g in grips])
+    # Per arm, as Python floats, for the per-step gripper command and opening (a handful of
+    # numbers: each numpy call would cost more than its arithmetic).
+    self._finger_rows = [list(zip(*rows)) for rows in zip(
+        self._finger_qpos.tolist(), closed.tolist(), span.tolist())]
+    self._finger_command = [(act, list(zip(*rows))) for act, *rows in zip(
+        self._finger_act.tolist(), opened.tolist(), travel.tolist())]
     self._tcp_ids = np.array(bind([a.gripper.tcp_site for a in self._arms]).element_id)
-    # What the per-step paths read and write, as kept views and slices where they can be.
+    # What the per-step paths read and write, as kept views and slices where they can be;
+    # one assignment writes every arm's joint targets from the IK's joint vector.
     self._arrays = mujoco_arrays.ArrayViews("qpos", "qvel", "ctrl", "site_xpos", "site_xmat")
     self._tcp_rows = mujoco_arrays.compact_index(self._tcp_ids)
     self._ik_qpos_rows = mujoco_arrays.compact_index(self._ik_to_qpos)
-    self._arm_act_rows = mujoco_arrays.compact_index(self._arm_act_flat)
-    self._arm_from_ik_rows = mujoco_arrays.compact_index(self._arm_from_ik)
+    self._arm_act_rows = mujoco_arrays.compact_index(self._arm_act)
+    self._arm_from_ik_rows = mujoco_arrays.compact_index(self._ik.qpos_index[self._arm_ik])
     self._arm_qpos_rows = mujoco_arrays.compact_index(self._arm_qpos)
     self._arm_dof_rows = mujoco_arrays.compact_index(self._arm_dof)
     self._finger_bodies = [np.array(bind([j.parent for j in a.gripper.joints]).element_id)
@@ -280,15 +254,16 @@ class Manipulator(work_area.WorkArea, base.Robot):
   def apply_action(self, physics, action, random_state):
     action = np.asarray(action).reshape(len(self._arms), -1)
     data = physics.data
+    arrays = self._arrays(physics)
     if self._mode in control_modes.DELTA_TARGETS:
-      self._targets.apply_deltas(action, self._arrays(physics).site_xpos[self._tcp_rows])
+      self._targets.apply_deltas(action, arrays.site_xpos[self._tcp_rows])
     elif self._mode == control_modes.TASK_SPACE_POSE:
       for i in range(len(self._arms)):
         self._targets.apply_pose(i, action[i], self._base_rot @ self._home_rot[i])
     if self._mode == control_modes.IMPEDANCE:   # springs pull the tools there; ctrl stays 0
       self._impedance.place(physics, self._targets.pos, self._targets.rot)
     elif self._mode in (control_modes.TASK_SPACE, control_modes.TASK_SPACE_POSE):
-      self._track_task_space(physics)
+      self._track_task_space(arrays)
     elif self._mode == control_modes.JOINT_POSITION:
       for i in range(len(self._arms)):
         data.ctrl[self._arm_act[i]] = control_modes.joint_targets(
@@ -297,15 +272,15 @@ class Manipulator(work_area.WorkArea, base.Robot):
       for i, arm in enumerate(self._arms):
         data.ctrl[self._arm_act[i]] = action[i, :-1] * arm.torque_limits
     # grippers.command for every arm, in Python floats.
-    ctrl = self._arrays(physics).ctrl
+    ctrl = arrays.ctrl
     for squeeze, (actuators, fingers) in zip(action[:, -1].tolist(), self._finger_command):
       fraction = (min(max(squeeze, -1.0), 1.0) + 1.0) / 2.0
       for actuator, (opened, travel) in zip(actuators, fingers):
         ctrl[actuator] = opened + fraction * travel
 
-  def _track_task_space(self, physics):
-    """Joint targets for the position actuators from the task-space targets, by IK."""
-    arrays = self._arrays(physics)
+  def _track_task_space(self, arrays):
+    """Joint targets for the position actuators from the task-space targets, by IK
+    (`arrays`: this physics' ArrayViews)."""
     targets = self._targets.in_frame(self._base_pos_floats, self._base_rot_floats)
     q = self._ik.step(arrays.qpos[self._ik_qpos_rows], targets, self._dt)   # step copies it
     arrays.ctrl[self._arm_act_rows] = q[self._arm_from_ik_rows]
