@@ -57,7 +57,13 @@ def checks():
               "pip install numpy"))
   from ikea_suite.robots import compiled_kernels
   built = compiled_kernels.kernels is not None
-  out.append(("IK kernels", "compiled" if built else "Python twins",
+  if not built:
+    kernels = "Python twins"
+  elif compiled_kernels.fused:
+    kernels = "compiled, fused task-space step"
+  else:   # numpy without its bundled OpenBLAS: the compiled pieces run between numpy's calls
+    kernels = "compiled, separate steps (numpy's BLAS not found)"
+  out.append(("IK kernels", kernels,
               None if built else "the optional C module was not built at install: "
               "task-space control runs the same arithmetic in Python, slower",
               "install a C compiler and the Python headers (Debian/Ubuntu: apt-get install "

@@ -26,6 +26,7 @@ import numpy as np
 
 from ikea_suite import errors
 from ikea_suite import geometry
+from ikea_suite.robots import compiled_kernels
 from ikea_suite.robots.compiled_kernels import kernels
 
 TASK_SPACE = "task_space"
@@ -63,14 +64,15 @@ class TaskSpaceTargets:
 
   A delta target is kept at most `max_lag` metres from the measured tool so
   that pushing against an obstacle cannot wind it up. Positions are held as
-  Python floats, the form the per-step update and DifferentialIK.step work in:
-  with three numbers per arm each numpy call would cost more than its
-  arithmetic. Rotations stay numpy products, whose rounding (BLAS's, not
-  Python's) the experts' measured episodes were run with.
+  float64 rows, read as Python floats by the per-step update and DifferentialIK.step
+  (with three numbers per arm each numpy call would cost more than its arithmetic),
+  and updated in place by the fused compiled step (`fused_plan`). Rotations stay
+  numpy products, whose rounding (BLAS's, not Python's) the experts' measured
+  episodes were run with.
   """
 
   def __init__(self, num_arms, max_translation, max_rotation, workspace, max_lag=0.1):
-    self._pos = [[0.0, 0.0, 0.0] for _ in range(num_arms)]
+    self._pos = np.zeros((num_arms, 3))
     self._rot = np.tile(np.eye(3), (num_arms, 1, 1))
     self._max_translation, self._max_rotation = max_translation, max_rotation
     self._workspace = np.asarray(workspace, dtype=float)   # (num_arms, 2, 3) world boxes
@@ -82,7 +84,7 @@ class TaskSpaceTargets:
   @property
   def pos(self):
     """(arms, 3) target positions (a copy)."""
-    return np.array(self._pos)
+    return self._pos.copy()
 
   @property
   def rot(self):
@@ -104,7 +106,7 @@ class TaskSpaceTargets:
       self._set(i, pos, rot)
 
   def _set(self, i, pos, rot):
-    self._pos[i] = np.asarray(pos, dtype=float).reshape(3).tolist()
+    self._pos[i] = np.asarray(pos, dtype=float).reshape(3)
     self._rot[i] = rot
 
   def apply_deltas(self, actions, tcp_pos):
@@ -118,8 +120,9 @@ class TaskSpaceTargets:
         if turned:
           self._rot[i] = turning @ self._rot[i]
       return
+    positions = self._pos.tolist()
     for i, (move, tcp) in enumerate(zip(actions[:, :6].tolist(), tcp_pos.tolist())):
-      p = self._pos[i]
+      p = positions[i]
       target = [p[0] + move[0] * step, p[1] + move[1] * step, p[2] + move[2] * step]
       lag = [target[0] - tcp[0], target[1] - tcp[1], target[2] - tcp[2]]
       distance = math.sqrt(lag[0] * lag[0] + lag[1] * lag[1] + lag[2] * lag[2])
@@ -141,7 +144,7 @@ class TaskSpaceTargets:
     ox, oy, oz = origin
     out = []
     for (x, y, z), (m0, m1, m2, m3, m4, m5, m6, m7, m8) in zip(
-        self._pos, self._rot.reshape(-1, 9).tolist()):
+        self._pos.tolist(), self._rot.reshape(-1, 9).tolist()):
       x, y, z = x - ox, y - oy, z - oz
       out.append(([r0 * x + r3 * y + r6 * z, r1 * x + r4 * y + r7 * z, r2 * x + r5 * y + r8 * z],
                   [r0 * m0 + r3 * m3 + r6 * m6, r0 * m1 + r3 * m4 + r6 * m7,
@@ -150,6 +153,18 @@ class TaskSpaceTargets:
                    r2 * m0 + r5 * m3 + r8 * m6, r2 * m1 + r5 * m4 + r8 * m7,
                    r2 * m2 + r5 * m5 + r8 * m8]))
     return out
+
+  def fused_plan(self, origin, rotation):
+    """The compiled plan (compiled_kernels' target_plan) through which the fused step
+    (ik_qp.DirectQP.fused_plan) applies deltas to these targets and takes them into the frame
+    at `origin` (3 floats) turned by `rotation` (9 floats, row-major), as apply_deltas and
+    in_frame do; None where the fused step cannot run."""
+    if not compiled_kernels.fused:
+      return None
+    return kernels.target_plan(
+        len(self._pos), float(self._max_translation), float(self._max_rotation),
+        float(self._max_lag), origin, rotation, self._pos, self._rot, self._turns,
+        np.array(self._low), np.array(self._high))
 
   def apply_pose(self, i, action, home_rot):
     low, high = self._workspace[i]

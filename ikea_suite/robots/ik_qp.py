@@ -12,9 +12,13 @@ bounds. tests/test_ik.py checks the step against mink.build_ik + qpsolvers.
 
 Where the install built robots/_ik_kernels.c (compiled_kernels), its twins of
 frame_rows and of assemble's element-wise end run instead of the Python: the same
-numbers, bit for bit, in a fraction of the time.
+numbers, bit for bit, in a fraction of the time. Where moreover compiled_kernels.fused,
+`fused_plan` hands one compiled call the whole assembly, MuJoCo's kinematics and numpy's BLAS
+products included (checked against `assemble` to the bit before it is used), and
+`solve_task_space` runs it with the target update in front.
 """
 
+import logging
 import math
 
 import daqp
@@ -28,6 +32,13 @@ _INF = 1e30    # DAQP reads bounds this large as absent
 
 
 _IDENTITY3 = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+
+
+def _rotation(quaternion):
+  """Rotation matrix of a (not necessarily unit) quaternion (w, x, y, z)."""
+  matrix = np.empty(9)
+  mujoco.mju_quat2Mat(matrix, quaternion / np.linalg.norm(quaternion))
+  return matrix.reshape(3, 3)
 
 
 def _quaternion(m0, m1, m2, m3, m4, m5, m6, m7, m8):
@@ -204,9 +215,14 @@ class DirectQP:
     self._weighted_rows = list(self._weighted.reshape(-1, 6))
     self._weight_rows = list(self._error_weight.reshape(-1, 6))
     self._sense = np.zeros(nv, dtype=np.intc)
+    self._plan_key = self._plan = self._fused_arrays = None   # fused_plan's
 
   def set_posture_target(self, q):
-    self._posture_offset = self._posture_weight * np.asarray(q, dtype=float)
+    offset = self._posture_weight * np.asarray(q, dtype=float)
+    if self._posture_offset is None:
+      self._posture_offset = offset
+    else:   # in place: the fused step's plan points at this array
+      self._posture_offset[:] = offset
 
   def assemble(self, q, targets, dt, velocity_limited=True):
     """(H, c, lower, upper) of the QP at q (within the limits); see `solve`."""
@@ -224,11 +240,7 @@ class DirectQP:
     h = w.T @ w
     c = weighted @ w
     # mink's ConfigurationLimit and VelocityLimit rows, intersected per coordinate.
-    key = (dt, velocity_limited)
-    if key not in self._caps:
-      cap = np.minimum(self._speed * dt if velocity_limited else np.full(model.nv, np.inf), _INF)
-      self._caps[key] = cap, -cap
-    cap, floor = self._caps[key]
+    cap, floor = self._cap(dt, velocity_limited)
     if self.use_compiled:
       upper, lower = np.empty(model.nv), np.empty(model.nv)
       compiled.qp_finish(h, c, np.ascontiguousarray(q, dtype=float), self._diagonal,
@@ -242,6 +254,15 @@ class DirectQP:
     upper = np.minimum(self._gain_upper - gain_q, cap)
     lower = np.maximum(self._gain_lower - gain_q, floor)
     return h, c, lower, upper
+
+  def _cap(self, dt, velocity_limited):
+    """(cap, floor): mink's VelocityLimit as +-bounds on the step, capped at _INF."""
+    key = (dt, velocity_limited)
+    if key not in self._caps:
+      speed = self._speed * dt if velocity_limited else np.full(self._model.nv, np.inf)
+      cap = np.minimum(speed, _INF)
+      self._caps[key] = cap, -cap
+    return self._caps[key]
 
   def _rows(self, targets):
     """(w, weighted errors) of the frame tasks, by frame_rows in Python floats."""
@@ -272,6 +293,57 @@ class DirectQP:
     np.matmul(self._blocks, self._jac, out=self._w)
     return self._w_rows, self._weighted
 
+  def fused_plan(self, dt, low, high):
+    """The compiled plan (compiled_kernels' qp_plan) of this QP for steps of length dt with
+    the velocity limit, q clipped to [low, high]; None where the fused step cannot run here
+    or does not give `assemble`'s numbers to the bit on this machine."""
+    if self._plan_key == dt:
+      return self._plan
+    self._plan_key, self._plan = dt, None
+    if not compiled_kernels.fused or self._posture_offset is None:
+      return None
+    nv, data = self._model.nv, self._data
+    self._fused_arrays = [np.zeros((nv, nv))] + [np.zeros(nv) for _ in range(4)]
+    h, c, upper, lower, q = self._fused_arrays
+    cap, floor = self._cap(dt, True)
+    plan = compiled.qp_plan(
+        self._model._address, data._address, self._sites, nv, float(self._limit_gain),
+        self._qpos, data.site_xpos, data.site_xmat, self._jac, self._blocks, self._w,
+        self._weighted, np.array(self._cost_rows), self._error_weight.copy(), h, c, upper,
+        lower, q, np.array(low, dtype=float), np.array(high, dtype=float), self._diagonal,
+        np.broadcast_to(self._posture_weight, nv).astype(float), self._posture_offset,
+        self._gain_upper, self._gain_lower, cap.copy(), floor.copy())
+    if self._fused_matches(plan, dt, low, high):
+      self._plan = plan
+    return self._plan
+
+  def _fused_matches(self, plan, dt, low, high):
+    """Whether qp_assemble gives assemble's H, c and bounds to the bit at random states."""
+    rng = np.random.default_rng(0)
+    span = np.where(np.isfinite(high - low), high - low, 2 * np.pi)
+    base = np.where(np.isfinite(low), low, -np.pi)
+    for _ in range(3):
+      q = base + span * rng.uniform(-0.1, 1.1, self._model.nv)
+      targets = [(rng.normal(0, 0.5, 3), _rotation(rng.normal(0, 1, 4))) for _ in self._sites]
+      compiled.qp_assemble(plan, q, np.concatenate([np.r_[p, r.reshape(9)] for p, r in targets]))
+      expected = self.assemble(np.minimum(np.maximum(q, low), high), targets, dt)
+      h, c, upper, lower, _ = self._fused_arrays
+      if any(a.tobytes() != b.tobytes() for a, b in zip((h, c, lower, upper), expected)):
+        logging.warning("ikea_suite: the fused task-space step differs from the Python on "
+                        "this machine; the Python runs")
+        return False
+    return True
+
+  def solve_task_space(self, plan, target_plan, actions, tcp_pos, q):
+    """(q clipped, step displacement or None): the targets behind target_plan moved by
+    `actions` (TaskSpaceTargets.apply_deltas with tcp_pos; None: not moved) and `solve` from q
+    towards them
+    in one compiled call and DAQP's. plan: fused_plan's. The returned q is the plan's array,
+    which the next call overwrites."""
+    compiled.task_space_assemble(plan, target_plan, actions, tcp_pos, q)
+    h, c, upper, lower, clipped = self._fused_arrays
+    return clipped, self.solve_assembled(h, c, lower, upper)
+
   def solve(self, q, targets, dt, velocity_limited=True):
     """The step displacement from q (within the limits) towards `targets`, or None.
 
@@ -279,5 +351,9 @@ class DirectQP:
     in the model's frame.
     """
     h, c, lower, upper = self.assemble(q, targets, dt, velocity_limited)
+    return self.solve_assembled(h, c, lower, upper)
+
+  def solve_assembled(self, h, c, lower, upper):
+    """DAQP's solution of an assembled QP, or None."""
     x, _, exitflag, _ = daqp.solve(h, c, self._no_rows, upper, lower, self._sense)
     return x if exitflag > 0 else None

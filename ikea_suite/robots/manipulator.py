@@ -22,6 +22,7 @@ from ikea_suite.robots import control_modes
 from ikea_suite.robots import grippers
 from ikea_suite.robots import ik
 from ikea_suite.robots import manipulator_observables
+from ikea_suite.robots import task_space_tracking
 from ikea_suite.robots import work_area
 
 _HOME_CACHE = {}
@@ -53,9 +54,6 @@ class Manipulator(work_area.WorkArea, base.Robot):
     max_rotation = options.positive("max_rotation", max_rotation)
     self._base_pos = options.vector("base_pos", self.BASE_POS if base_pos is None else base_pos, (3,))
     self._base_rot = geometry.rot_z(options.number("base_yaw", base_yaw))
-    # The same pose as Python floats, for the task-space targets' per-step frame change.
-    self._base_pos_floats = self._base_pos.tolist()
-    self._base_rot_floats = self._base_rot.reshape(9).tolist()
     options.choice("wrist_camera", wrist_camera, (True, False))
     camera_size = options.vector("camera_size", camera_size, (2,))
     if (camera_size < 1).any() or (camera_size != np.round(camera_size)).any():
@@ -81,8 +79,9 @@ class Manipulator(work_area.WorkArea, base.Robot):
     boxes = [self._box_to_world(arm.workspace) for arm in self._arms]
     self._targets = control_modes.TaskSpaceTargets(len(self._arms), max_translation,
                                                     max_rotation, boxes)
+    self._tracker = task_space_tracking.TaskSpaceTracker(
+        self._ik, self._targets, self._base_pos.tolist(), self._base_rot.reshape(9).tolist())
     self._wrist_camera, self._camera_size = bool(wrist_camera), tuple(camera_size)
-    self._dt = 0.05
 
   def _build_body(self, name):
     """Returns (mjcf root, [Arm]) of the robot without arm actuators."""
@@ -180,7 +179,7 @@ class Manipulator(work_area.WorkArea, base.Robot):
     return frame
 
   def bind_scene(self, arena, furniture, assembly, control_timestep):
-    self._dt = control_timestep
+    self._tracker.dt = control_timestep
 
   def _build_observables(self):
     return manipulator_observables.ManipulatorObservables(self)
@@ -211,9 +210,9 @@ class Manipulator(work_area.WorkArea, base.Robot):
     # one assignment writes every arm's joint targets from the IK's joint vector.
     self._arrays = mujoco_arrays.ArrayViews("qpos", "qvel", "ctrl", "site_xpos", "site_xmat")
     self._tcp_rows = mujoco_arrays.compact_index(self._tcp_ids)
-    self._ik_qpos_rows = mujoco_arrays.compact_index(self._ik_to_qpos)
-    self._arm_act_rows = mujoco_arrays.compact_index(self._arm_act)
-    self._arm_from_ik_rows = mujoco_arrays.compact_index(self._ik.qpos_index[self._arm_ik])
+    self._tracker.bind(self._tcp_rows, mujoco_arrays.compact_index(self._ik_to_qpos),
+                       mujoco_arrays.compact_index(self._arm_act),
+                       mujoco_arrays.compact_index(self._ik.qpos_index[self._arm_ik]))
     self._arm_qpos_rows = mujoco_arrays.compact_index(self._arm_qpos)
     self._arm_dof_rows = mujoco_arrays.compact_index(self._arm_dof)
     self._finger_bodies = [np.array(bind([j.parent for j in a.gripper.joints]).element_id)
@@ -252,18 +251,18 @@ class Manipulator(work_area.WorkArea, base.Robot):
   # -- acting ----------------------------------------------------------------------
 
   def apply_action(self, physics, action, random_state):
-    action = np.asarray(action).reshape(len(self._arms), -1)
+    action = np.ascontiguousarray(action, dtype=float).reshape(len(self._arms), -1)
     data = physics.data
     arrays = self._arrays(physics)
-    if self._mode in control_modes.DELTA_TARGETS:
-      self._targets.apply_deltas(action, arrays.site_xpos[self._tcp_rows])
+    if self._mode == control_modes.TASK_SPACE:   # the targets move by the action, then IK
+      self._tracker.track(arrays, action)
     elif self._mode == control_modes.TASK_SPACE_POSE:
       for i in range(len(self._arms)):
         self._targets.apply_pose(i, action[i], self._base_rot @ self._home_rot[i])
-    if self._mode == control_modes.IMPEDANCE:   # springs pull the tools there; ctrl stays 0
+      self._tracker.track(arrays)
+    elif self._mode == control_modes.IMPEDANCE:   # springs pull the tools there; ctrl stays 0
+      self._targets.apply_deltas(action, arrays.site_xpos[self._tcp_rows])
       self._impedance.place(physics, self._targets.pos, self._targets.rot)
-    elif self._mode in (control_modes.TASK_SPACE, control_modes.TASK_SPACE_POSE):
-      self._track_task_space(arrays)
     elif self._mode == control_modes.JOINT_POSITION:
       for i in range(len(self._arms)):
         data.ctrl[self._arm_act[i]] = control_modes.joint_targets(
@@ -277,13 +276,6 @@ class Manipulator(work_area.WorkArea, base.Robot):
       fraction = (min(max(squeeze, -1.0), 1.0) + 1.0) / 2.0
       for actuator, (opened, travel) in zip(actuators, fingers):
         ctrl[actuator] = opened + fraction * travel
-
-  def _track_task_space(self, arrays):
-    """Joint targets for the position actuators from the task-space targets, by IK
-    (`arrays`: this physics' ArrayViews)."""
-    targets = self._targets.in_frame(self._base_pos_floats, self._base_rot_floats)
-    q = self._ik.step(arrays.qpos[self._ik_qpos_rows], targets, self._dt)   # step copies it
-    arrays.ctrl[self._arm_act_rows] = q[self._arm_from_ik_rows]
 
   # -- state readers ---------------------------------------------------------------
 
@@ -343,6 +335,11 @@ class Manipulator(work_area.WorkArea, base.Robot):
   def finger_actuator_ids(self):
     """(arms, fingers) MuJoCo actuator ids of the gripper fingers (set after compile)."""
     return self._finger_act.copy()
+
+  @property
+  def tracker(self):
+    """The task-space modes' task_space_tracking.TaskSpaceTracker."""
+    return self._tracker
 
   def replay_targets(self):
     """A copy of the task-space targets (control_modes.TaskSpaceTargets) as they stand,
