@@ -25,6 +25,7 @@ import daqp
 import mujoco
 import numpy as np
 
+from ikea_suite import geometry
 from ikea_suite.robots import compiled_kernels
 
 _EPS = 1e-10   # mink's small-angle threshold (mink/lie/utils.py, float64)
@@ -32,13 +33,6 @@ _INF = 1e30    # DAQP reads bounds this large as absent
 
 
 _IDENTITY3 = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
-
-
-def _rotation(quaternion):
-  """Rotation matrix of a (not necessarily unit) quaternion (w, x, y, z)."""
-  matrix = np.empty(9)
-  mujoco.mju_quat2Mat(matrix, quaternion / np.linalg.norm(quaternion))
-  return matrix.reshape(3, 3)
 
 
 def _quaternion(m0, m1, m2, m3, m4, m5, m6, m7, m8):
@@ -215,7 +209,8 @@ class DirectQP:
     self._weighted_rows = list(self._weighted.reshape(-1, 6))
     self._weight_rows = list(self._error_weight.reshape(-1, 6))
     self._sense = np.zeros(nv, dtype=np.intc)
-    self._plan_key = self._plan = self._fused_arrays = None   # fused_plan's
+    # What every fused plan writes: h, c, upper, lower and the clipped q.
+    self._fused_out = (np.zeros((nv, nv)),) + tuple(np.zeros(nv) for _ in range(4))
 
   def set_posture_target(self, q):
     offset = self._posture_weight * np.asarray(q, dtype=float)
@@ -294,28 +289,22 @@ class DirectQP:
     return self._w_rows, self._weighted
 
   def fused_plan(self, dt, low, high):
-    """The compiled plan (compiled_kernels' qp_plan) of this QP for steps of length dt with
-    the velocity limit, q clipped to [low, high]; None where the fused step cannot run here
-    or does not give `assemble`'s numbers to the bit on this machine."""
-    if self._plan_key == dt:
-      return self._plan
-    self._plan_key, self._plan = dt, None
+    """A compiled plan (compiled_kernels' qp_plan) of this QP for steps of length dt with
+    the velocity limit, q clipped to [low, high] (kept arrays, read while the plan lives);
+    None where the fused step cannot run here or does not give `assemble`'s numbers to the
+    bit on this machine. Every plan writes the same output arrays (solve_task_space's)."""
     if not compiled_kernels.fused or self._posture_offset is None:
       return None
-    nv, data = self._model.nv, self._data
-    self._fused_arrays = [np.zeros((nv, nv))] + [np.zeros(nv) for _ in range(4)]
-    h, c, upper, lower, q = self._fused_arrays
+    data = self._data
+    h, c, upper, lower, q = self._fused_out
     cap, floor = self._cap(dt, True)
     plan = compiled.qp_plan(
-        self._model._address, data._address, self._sites, nv, float(self._limit_gain),
-        self._qpos, data.site_xpos, data.site_xmat, self._jac, self._blocks, self._w,
-        self._weighted, np.array(self._cost_rows), self._error_weight.copy(), h, c, upper,
-        lower, q, np.array(low, dtype=float), np.array(high, dtype=float), self._diagonal,
-        np.broadcast_to(self._posture_weight, nv).astype(float), self._posture_offset,
-        self._gain_upper, self._gain_lower, cap.copy(), floor.copy())
-    if self._fused_matches(plan, dt, low, high):
-      self._plan = plan
-    return self._plan
+        self._model._address, data._address, self._sites, self._model.nv,
+        float(self._limit_gain), self._qpos, data.site_xpos, data.site_xmat, self._jac,
+        self._blocks, self._w, self._weighted, np.array(self._cost_rows), self._error_weight,
+        h, c, upper, lower, q, low, high, self._diagonal, self._posture_weight,
+        self._posture_offset, self._gain_upper, self._gain_lower, cap, floor)
+    return plan if self._fused_matches(plan, dt, low, high) else None
 
   def _fused_matches(self, plan, dt, low, high):
     """Whether qp_assemble gives assemble's H, c and bounds to the bit at random states."""
@@ -324,24 +313,25 @@ class DirectQP:
     base = np.where(np.isfinite(low), low, -np.pi)
     for _ in range(3):
       q = base + span * rng.uniform(-0.1, 1.1, self._model.nv)
-      targets = [(rng.normal(0, 0.5, 3), _rotation(rng.normal(0, 1, 4))) for _ in self._sites]
+      quats = rng.normal(0, 1, (len(self._sites), 4))
+      targets = [(rng.normal(0, 0.5, 3), geometry.quat_to_mat(quat / np.linalg.norm(quat)))
+                 for quat in quats]
       compiled.qp_assemble(plan, q, np.concatenate([np.r_[p, r.reshape(9)] for p, r in targets]))
       expected = self.assemble(np.minimum(np.maximum(q, low), high), targets, dt)
-      h, c, upper, lower, _ = self._fused_arrays
+      h, c, upper, lower, _ = self._fused_out
       if any(a.tobytes() != b.tobytes() for a, b in zip((h, c, lower, upper), expected)):
-        logging.warning("ikea_suite: the fused task-space step differs from the Python on "
-                        "this machine; the Python runs")
+        logging.warning("ikea_suite: the fused task-space step differs from the separate "
+                        "steps on this machine; the separate steps run")
         return False
     return True
 
   def solve_task_space(self, plan, target_plan, actions, tcp_pos, q):
     """(q clipped, step displacement or None): the targets behind target_plan moved by
     `actions` (TaskSpaceTargets.apply_deltas with tcp_pos; None: not moved) and `solve` from q
-    towards them
-    in one compiled call and DAQP's. plan: fused_plan's. The returned q is the plan's array,
-    which the next call overwrites."""
+    towards them, in one compiled call and DAQP's. plan: fused_plan's. The returned q is a
+    kept array, which the next call overwrites."""
     compiled.task_space_assemble(plan, target_plan, actions, tcp_pos, q)
-    h, c, upper, lower, clipped = self._fused_arrays
+    h, c, upper, lower, clipped = self._fused_out
     return clipped, self.solve_assembled(h, c, lower, upper)
 
   def solve(self, q, targets, dt, velocity_limited=True):
