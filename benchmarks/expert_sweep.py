@@ -76,10 +76,10 @@ def graspable(robot, furniture, scale, arena):
   """True when every loose part fits `robot`'s gripper as placed on the first seed;
   otherwise prints the first part that does not and returns False."""
   import ikea_suite
-  from ikea_suite.experts import feasibility
+  from ikea_suite.experts import gripper_fit
   env = ikea_suite.load(furniture, robot, seed=0, scale=scale, arena=arena)
   env.reset()
-  problems = feasibility.grasp_problems(env)
+  problems = gripper_fit.grasp_problems(env)
   if problems:
     print(f"skipped {robot} {furniture}: {len(problems)} parts do not fit its gripper; {problems[0]}")
   return not problems
@@ -118,7 +118,7 @@ def main(argv=None):
   parser.add_argument("--json", default=None, help="also write every episode's summary here")
   parser.add_argument("--graspable", action="store_true",
                       help="skip, naming the part, models with a loose part the robot's gripper "
-                           "cannot take as it lies (experts/feasibility.py)")
+                           "cannot take as it lies (experts/gripper_fit.py)")
   parser.add_argument("--join", nargs="+", default=None, metavar="LOG",
                       help="run nothing: print the tables of the episodes these sweeps' "
                            "output logs hold (one JSON line each), e.g. two seed ranges")
@@ -130,8 +130,8 @@ def main(argv=None):
       print_table(robot, mine)
       print(f"total {sum(r['complete'] for r in mine)}/{len(mine)}")
     return 0
-  from ikea_suite.experts import work_scale
   from ikea_suite import experts
+  from ikea_suite.experts import work_scale
   jobs = []
   for robot in args.robots:
     models = (experts.supported(robot) if args.supported

@@ -24,7 +24,7 @@ import numpy as np  # noqa: E402
 
 import ikea_suite  # noqa: E402
 from ikea_suite import cli  # noqa: E402
-from ikea_suite.oracle import cursor_oracle  # noqa: E402
+from ikea_suite.experts import cursor_oracle  # noqa: E402
 from ikea_suite.props import catalog  # noqa: E402
 
 

@@ -16,7 +16,7 @@ import numpy as np
 import ikea_suite  # sets MUJOCO_GL=egl on a display-less Linux machine
 from ikea_suite import doctor
 from ikea_suite import experts
-from ikea_suite.oracle import cursor_oracle
+from ikea_suite.experts import cursor_oracle
 from ikea_suite.props import catalog
 
 POLICIES = ("oracle", "expert", "random")

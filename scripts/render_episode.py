@@ -20,7 +20,7 @@ os.environ.setdefault("MUJOCO_GL", "egl")   # headless by default; must precede 
 import numpy as np  # pylint: disable=g-import-not-at-top
 
 import ikea_suite  # pylint: disable=g-import-not-at-top
-from ikea_suite.oracle import cursor_oracle  # pylint: disable=g-import-not-at-top
+from ikea_suite.experts import cursor_oracle  # pylint: disable=g-import-not-at-top
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
 from randomized_contact_sheet import write_png  # pylint: disable=g-import-not-at-top

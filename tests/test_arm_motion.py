@@ -1,12 +1,12 @@
-"""The arm experts' motion planning helpers (oracle/arm_motion.py, oracle/mating.py)."""
+"""The arm experts' motion planning helpers (experts/arm_motion.py, experts/mating.py)."""
 
 import numpy as np
 import pytest
 
 import ikea_suite
 from ikea_suite import geometry
-from ikea_suite.oracle import arm_motion
-from ikea_suite.oracle import mating
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import mating
 
 
 @pytest.mark.parametrize("robot,winds", [("sawyer", True), ("panda", False), ("jaco", False),

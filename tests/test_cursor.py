@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import ikea_suite
-from ikea_suite.oracle import targets
+from ikea_suite.experts import part_geometry
 from tests import helpers
 
 
@@ -65,24 +65,24 @@ def test_rotation_rate(env):
 def test_grab_lift_carry_and_release(env):
   robot, physics, furniture = env.task.robot, env.physics, env.task.furniture
   top = helpers.part_index(env, "top")
-  point = targets.grasp_point(physics, furniture, top)
+  point = part_geometry.grasp_point(physics, furniture, top)
   fly_to(env, 0, point)
   env.step(cursor_action(env, 0, select=True))
   assert robot.held_parts[0] == top
   for _ in range(20):
     env.step(cursor_action(env, 0, move=(0, 0, 1), select=True))
-  pos, _ = targets.part_pose(physics, furniture, top)
+  pos, _ = part_geometry.part_pose(physics, furniture, top)
   assert pos[2] > 0.4   # 20 steps x 2.5 cm, minus the grip's lag
   for _ in range(10):
     env.step(cursor_action(env, 0, rotate=(1, 0, 0), select=True))
-  _, rot = targets.part_pose(physics, furniture, top)
+  _, rot = part_geometry.part_pose(physics, furniture, top)
   tilt = np.degrees(np.arccos(rot[2, 2]))
   assert 30 < tilt < 60   # about 45 degrees commanded
   env.step(cursor_action(env, 0, select=False))
   assert robot.held_parts[0] == -1
   for _ in range(30):
     env.step(cursor_action(env, 0, select=False))
-  assert targets.part_pose(physics, furniture, top)[0][2] < 0.1   # it fell
+  assert part_geometry.part_pose(physics, furniture, top)[0][2] < 0.1   # it fell
 
 
 def test_select_in_empty_space_holds_nothing(env):
@@ -95,8 +95,8 @@ def test_two_cursors_cannot_hold_one_assembly(env):
   top, leg = helpers.part_index(env, "top"), helpers.part_index(env, "leg0")
   helpers.place_assembled(env, [top, leg], offset=np.zeros(3))
   env.step(helpers.connect_action(env))
-  fly_to(env, 1, targets.grasp_point(physics, furniture, leg))
-  fly_to(env, 0, targets.grasp_point(physics, furniture, top))
+  fly_to(env, 1, part_geometry.grasp_point(physics, furniture, leg))
+  fly_to(env, 0, part_geometry.grasp_point(physics, furniture, top))
   env.step(cursor_action(env, 0, select=True))
   action = cursor_action(env, 1, select=True)
   action[6] = 1.0   # cursor 0 keeps holding

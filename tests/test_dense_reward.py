@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import ikea_suite
-from ikea_suite.oracle import cursor_oracle
-from ikea_suite.oracle import targets
+from ikea_suite.experts import cursor_oracle
+from ikea_suite.experts import part_geometry
 from ikea_suite.tasks import rewards
 from tests import helpers
 
@@ -81,7 +81,7 @@ def test_stage_terms_of_a_held_and_lifted_part_match_their_definitions():
   assert set(terms) == {"reach", "grasp", "lift", "distance", "angle"}
   assert not terms["grasp"].any() and not terms["lift"].any()   # nothing held yet
   # Cursor 0 selects leg0 at its grasp point, then raises it 5 cm (two steps at full speed).
-  robot.set_cursor_pose(physics, 0, targets.grasp_point(physics, task.furniture, leg), np.eye(3))
+  robot.set_cursor_pose(physics, 0, part_geometry.grasp_point(physics, task.furniture, leg), np.eye(3))
   action = helpers.idle_action(env)
   action[6] = 1.0    # cursor0_select
   returns = 0.0
@@ -118,9 +118,9 @@ def test_sparse_is_default_and_unknown_reward_is_rejected():
 
 
 def test_arm_grasp_is_detected_and_return_rises_from_grasp_to_connection():
-  from ikea_suite.oracle import arm_controller
+  from ikea_suite.experts import single_arm
   env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=0, reward="dense")
-  controller = arm_controller.ArmAssemblyController(env)
+  controller = single_arm.ArmAssemblyController(env)
   timestep, total, samples, grasped = env.reset(), 0.0, {}, False
   for _ in range(500):
     timestep = env.step(controller(timestep))

@@ -1,9 +1,9 @@
-"""experts.feasibility: which loose parts a gripper can take from above, as they lie."""
+"""experts.gripper_fit: which loose parts a gripper can take from above, as they lie."""
 
 import pytest
 
 import ikea_suite
-from ikea_suite.experts import feasibility
+from ikea_suite.experts import gripper_fit
 
 
 def _env(furniture, robot):
@@ -14,7 +14,7 @@ def _env(furniture, robot):
 
 def _gaps(robot):
   env = _env("stool_round_frosta", robot)
-  return tuple(feasibility.finger_gap(env.physics, env.task.robot, 0, f) for f in (1.0, 0.0))
+  return tuple(gripper_fit.finger_gap(env.physics, env.task.robot, 0, f) for f in (1.0, 0.0))
 
 
 def test_rethink_tips_open_wider_than_they_close():
@@ -32,17 +32,17 @@ def test_the_sawyer_fingers_one_slot_in_meet_when_closed():
 
 
 def test_slender_legs_fit_and_a_flat_shelf_does_not():
-  assert feasibility.grasp_problems(_env("stool_round_frosta", "sawyer")) == []
+  assert gripper_fit.grasp_problems(_env("stool_round_frosta", "sawyer")) == []
   # (A seat standing in the panel rack is taken by its edge: tests/test_panel_rack.py.
   # A shelf lies flat in the furniture, so it lies flat on the floor too.)
-  problems = feasibility.grasp_problems(_env("table_coffee_shelf_w90_birch", "panda"))
+  problems = gripper_fit.grasp_problems(_env("table_coffee_shelf_w90_birch", "panda"))
   assert [p.part for p in problems] == ["shelf"]
   assert "wider than the open" in str(problems[0])
 
 
 def test_legs_thinner_than_the_closed_rethink_fingers_are_named():
-  problems = feasibility.grasp_problems(_env("stool_round_black_metal", "baxter"))
+  problems = gripper_fit.grasp_problems(_env("stool_round_black_metal", "baxter"))
   assert sorted(p.part for p in problems) == ["leg0", "leg1", "leg2", "leg3"]
   assert "narrower than the closed" in str(problems[0])
-  assert feasibility.grasp_problems(_env("stool_round_black_metal", "panda")) == []
-  assert feasibility.grasp_problems(_env("stool_round_black_metal", "sawyer")) == []
+  assert gripper_fit.grasp_problems(_env("stool_round_black_metal", "panda")) == []
+  assert gripper_fit.grasp_problems(_env("stool_round_black_metal", "sawyer")) == []

@@ -6,13 +6,13 @@ import numpy as np
 import ikea_suite
 from ikea_suite import experts
 from ikea_suite import geometry
-from ikea_suite.oracle import arm_controller
-from ikea_suite.oracle import arm_motion
-from ikea_suite.oracle import finger_room
-from ikea_suite.oracle import mating
-from ikea_suite.oracle import targets
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import finger_room
+from ikea_suite.experts import mating
+from ikea_suite.experts import part_geometry
+from ikea_suite.experts import single_arm
 
-Phase = arm_controller.Phase
+Phase = single_arm.Phase
 
 
 def test_progress_watch_stalls_only_after_a_window_without_gain():
@@ -184,9 +184,9 @@ def test_a_leg_with_another_part_beside_its_middle_is_taken_where_the_fingers_la
     furniture.set_part_pose(physics, blocker, centre - [0.0, radius + 0.004 + half, 0.0], along_y)
     for k, spot in zip(others, ([0.35, 0.75], [0.75, 0.4])):
       furniture.set_part_pose(physics, k, base + [*spot, radius + 0.001], along_x)
-  point, rot = arm_controller.ArmAssemblyController._grasp_pose(expert, moving)
+  point, rot = single_arm.ArmAssemblyController._grasp_pose(expert, moving)
   fingers = finger_room.finger_points(env.task.robot, physics, 0) @ rot.T
-  middle = targets.part_pose(physics, furniture, moving)[0]
+  middle = part_geometry.part_pose(physics, furniture, moving)[0]
   middle[2] = point[2]
   assert finger_room.lands_on_another_part(physics, furniture, moving, middle + fingers)
   assert not finger_room.lands_on_another_part(physics, furniture, moving, point + fingers)

@@ -6,16 +6,16 @@ import pytest
 import ikea_suite
 from ikea_suite import experts
 from ikea_suite.experts import bimanual
-from ikea_suite.oracle import arm_controller
-from ikea_suite.oracle import cursor_oracle
-from ikea_suite.oracle import targets
+from ikea_suite.experts import cursor_oracle
+from ikea_suite.experts import part_geometry
+from ikea_suite.experts import single_arm
 from tests import helpers
 
 
 @pytest.mark.parametrize("robot,kind", [("cursor", cursor_oracle.CursorOracle),
-                                        ("sawyer", arm_controller.ArmAssemblyController),
-                                        ("panda", arm_controller.ArmAssemblyController),
-                                        ("jaco", arm_controller.ArmAssemblyController),
+                                        ("sawyer", single_arm.ArmAssemblyController),
+                                        ("panda", single_arm.ArmAssemblyController),
+                                        ("jaco", single_arm.ArmAssemblyController),
                                         ("baxter", bimanual.TwoArmExpert)])
 def test_make_expert_returns_the_robots_policy_with_reset(robot, kind):
   env = ikea_suite.load("table_four_leg_lack", robot, seed=0)
@@ -100,7 +100,7 @@ def test_rise_first_holds_the_carry_over_its_start_only_while_a_standing_part_is
   # Stop the seed-1 episode as the stretcher's carry begins, the trestles standing.
   env = ikea_suite.load("table_trestle_l120_white", "panda", seed=1, scale=0.5)
   names = [p.name for p in env.task.furniture.spec.parts]
-  expert = next((e for e in helpers.expert_steps(env) if e.phase == arm_controller.Phase.ALIGN
+  expert = next((e for e in helpers.expert_steps(env) if e.phase == single_arm.Phase.ALIGN
                  and e.job and names[e.job[1]] == "stretcher"), None)
   assert expert is not None
   task, physics, robot = env.task, env.physics, env.task.robot   # the physics reset made
@@ -108,7 +108,7 @@ def test_rise_first_holds_the_carry_over_its_start_only_while_a_standing_part_is
   tcp, _ = robot.tcp_pose(physics, 0)
   positions, _ = task.furniture.part_poses(physics)
   trestle = names.index("trestle0")
-  assert trestle in targets.root_group(task)   # standing on the top, 0.35 m tall
+  assert trestle in part_geometry.root_group(task)   # standing on the top, 0.35 m tall
   over = positions[trestle][:2] - positions[stretcher][:2]   # the stretcher moved over it
   towards = tcp + np.r_[over, 0.05]
   held = route.rise_first(towards, stretcher, top=1.0)

@@ -12,9 +12,9 @@ import pytest
 
 import ikea_suite
 from ikea_suite import geometry
-from ikea_suite.oracle import arm_controller
-from ikea_suite.oracle import arm_motion
-from ikea_suite.oracle import grasp_motion
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import grasp_motion
+from ikea_suite.experts import single_arm
 from ikea_suite.robots import grippers
 from ikea_suite.robots import jaco
 from tests import helpers
@@ -107,7 +107,7 @@ def _hold_test(robot_name, furniture_name, part_name, standing, scale=1.0):
     env.step(np.zeros(env.action_spec().shape))
   part_pos = physics.data.xpos[furniture.body_ids[part]].copy()
   # Fingers close along world y, across the part's thin side (standing) or its width (lying).
-  controller = arm_controller.ArmAssemblyController(env)
+  controller = single_arm.ArmAssemblyController(env)
   _, home_rot = robot.tcp_pose(physics)
   candidates = [arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing,
                                              controller.closing_local())

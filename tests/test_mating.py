@@ -1,12 +1,12 @@
-"""The single-arm expert's mate choice (oracle/mating.py), checked at moments traced in the
+"""The single-arm expert's mate choice (experts/mating.py), checked at moments traced in the
 Panda's trestle desks (tuning seeds; episodes are deterministic)."""
 
 import numpy as np
 
 import ikea_suite
 from ikea_suite import experts
-from ikea_suite.oracle import arm_motion
-from ikea_suite.oracle import mating
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import mating
 
 
 def _expert_after(furniture, seed, steps):

@@ -7,7 +7,7 @@ import pytest
 
 import ikea_suite
 from ikea_suite import cli
-from ikea_suite.oracle import cursor_oracle
+from ikea_suite.experts import cursor_oracle
 from ikea_suite.props import catalog
 from tests import helpers
 

@@ -4,12 +4,12 @@ import numpy as np
 import pytest
 
 import ikea_suite
-from ikea_suite import geometry
 from ikea_suite import experts
-from ikea_suite.experts import feasibility
-from ikea_suite.oracle import arm_controller
-from ikea_suite.oracle import mating
-from ikea_suite.oracle import targets
+from ikea_suite import geometry
+from ikea_suite.experts import gripper_fit
+from ikea_suite.experts import mating
+from ikea_suite.experts import part_geometry
+from ikea_suite.experts import single_arm
 from ikea_suite.props import panel_rack
 from ikea_suite.tasks import panel_placement
 from tests import helpers
@@ -101,15 +101,15 @@ def test_only_panels_that_stand_in_the_furniture_are_racked():
 
 
 def test_walls_in_the_rack_fit_fingers_that_close_fully_and_are_too_thin_for_the_baxter():
-  assert feasibility.grasp_problems(_env()) == []
-  assert feasibility.grasp_problems(_env(robot="sawyer")) == []   # its fingers one slot in
-  problems = feasibility.grasp_problems(_env(robot="baxter"))
+  assert gripper_fit.grasp_problems(_env()) == []
+  assert gripper_fit.grasp_problems(_env(robot="sawyer")) == []   # its fingers one slot in
+  problems = gripper_fit.grasp_problems(_env(robot="baxter"))
   assert sorted(p.part for p in problems) == WALLS
   assert all("narrower than the closed" in str(p) for p in problems)
 
 
 def test_a_round_seat_standing_in_the_rack_is_taken_across_its_thickness():
-  assert feasibility.grasp_problems(_env("stool_pedestal_birch_bar")) == []
+  assert gripper_fit.grasp_problems(_env("stool_pedestal_birch_bar")) == []
 
 
 def test_panda_expert_takes_box_walls_from_the_rack_and_assembles_the_box():
@@ -144,7 +144,7 @@ def test_a_bench_end_mated_the_wrong_way_round_is_off_design():
   pair, end = _pair_between(env, "seat", "end0")
   off = []
   for twist in (0.0, np.pi):
-    pos, rot, _ = targets.mated_part_pose(env.physics, env.task.furniture, pair, end, twist)
+    pos, rot, _ = part_geometry.mated_part_pose(env.physics, env.task.furniture, pair, end, twist)
     off.append(mating.off_design(env, end, pos, rot, pair))
   assert min(off) < 1e-6
   assert max(off) > env.task.thresholds.distance   # 15 mm: the far face of a 15 mm end
@@ -158,7 +158,7 @@ def test_a_stretcher_between_the_standing_ends_goes_in_from_above():
   while len(env.task.state.connections) < 2 and not timestep.last():   # both ends on
     timestep = env.step(expert(timestep))
   pair, stretcher = _pair_between(env, "end0", "stretcher")
-  _, _, alone = targets.mated_part_pose(env.physics, env.task.furniture, pair, stretcher, 0.0)
+  _, _, alone = part_geometry.mated_part_pose(env.physics, env.task.furniture, pair, stretcher, 0.0)
   _, _, side = mating.mate_pose(env, pair, stretcher, 0.0)
   assert abs(alone[2]) < 0.1   # along its own axis: through the far end
   np.testing.assert_allclose(side, [0.0, 0.0, 1.0])
@@ -179,9 +179,9 @@ def test_jaco_keeps_squeezing_a_wall_it_holds_by_the_edge():
   timestep = env.reset()
   expert.reset()
   grip = []
-  while expert.phase != arm_controller.Phase.ALIGN and not timestep.last():
+  while expert.phase != single_arm.Phase.ALIGN and not timestep.last():
     action = expert(timestep)
-    if expert.phase == arm_controller.Phase.LIFT:
+    if expert.phase == single_arm.Phase.LIFT:
       grip.append(action[env.task.robot.actions_per_arm - 1])
     timestep = env.step(action)
   assert grip and min(grip) == 1.0
@@ -252,7 +252,7 @@ def test_a_raised_carry_out_of_reach_goes_back_to_the_usual_height_and_the_desk_
   while not timestep.last() and not env.task.state.complete:
     timestep = env.step(expert(timestep))
     top = expert._carry_height.top   # chosen at the first step of each carry
-    if expert.phase == arm_controller.Phase.ALIGN and top is not None:
+    if expert.phase == single_arm.Phase.ALIGN and top is not None:
       heights.append(top)
   assert env.task.state.complete
   raised = [i for i, h in enumerate(heights) if h > usual + 0.01]

@@ -4,13 +4,13 @@ import numpy as np
 import pytest
 
 import ikea_suite
-from ikea_suite.oracle import arm_controller
-from ikea_suite.oracle import arm_motion
-from ikea_suite.oracle import targets
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import part_geometry
+from ikea_suite.experts import single_arm
 from tests import helpers
 
 
-Phase = arm_controller.Phase
+Phase = single_arm.Phase
 
 
 def _run_until(env, controller, phase, max_steps=400):
@@ -24,20 +24,20 @@ def _run_until(env, controller, phase, max_steps=400):
 def test_sawyer_lifts_a_leg_by_friction_and_holds_it_two_seconds_while_moving():
   env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=3)
   env.reset()
-  controller = arm_controller.ArmAssemblyController(env)
+  controller = single_arm.ArmAssemblyController(env)
   _run_until(env, controller, Phase.ALIGN)   # reached, descended, closed, lifted
   physics, robot, furniture = env.physics, env.task.robot, env.task.furniture
   leg = controller.job[1]
   assert not helpers.welds_on(physics).any(), "no weld may hold the part"
 
   def leg_in_tool():
-    pos, rot = targets.part_pose(physics, furniture, leg)
+    pos, rot = part_geometry.part_pose(physics, furniture, leg)
     tcp_pos, tcp_rot = robot.tcp_pose(physics)
     return tcp_rot.T @ (pos - tcp_pos)
 
   start = leg_in_tool()
   start_tcp, _ = robot.tcp_pose(physics)
-  lifted = targets.part_pose(physics, furniture, leg)[0][2]
+  lifted = part_geometry.part_pose(physics, furniture, leg)[0][2]
   assert lifted > 0.1   # clear of the floor (the controller lifts 12 cm, then carries)
   heights, tcp_path = [], []
   steps = int(round(2.0 / env.control_timestep()))
@@ -48,7 +48,7 @@ def test_sawyer_lifts_a_leg_by_friction_and_holds_it_two_seconds_while_moving():
     action[5] = 0.5 * np.cos(phase)
     action[6] = 1.0   # keep squeezing
     env.step(action)
-    heights.append(targets.part_pose(physics, furniture, leg)[0][2])
+    heights.append(part_geometry.part_pose(physics, furniture, leg)[0][2])
     tcp_path.append(robot.tcp_pose(physics)[0])
   assert np.ptp(np.array(tcp_path)[:, :2], axis=0).max() > 0.1   # the arm really moved
   assert min(heights) > 0.1   # held up the whole time (a dropped leg lies at 0.025 m)
@@ -59,7 +59,7 @@ def test_sawyer_lifts_a_leg_by_friction_and_holds_it_two_seconds_while_moving():
   action[6] = -1.0   # open: friction was all that held it
   for _ in range(20):
     env.step(action)
-  assert targets.part_pose(physics, furniture, leg)[0][2] < 0.1
+  assert part_geometry.part_pose(physics, furniture, leg)[0][2] < 0.1
 
 
 @pytest.mark.parametrize("seed", range(5))
@@ -68,7 +68,7 @@ def test_scripted_sawyer_connects_the_first_leg_from_random_starts(seed):
   # 50 mm legs leave 5 mm a side and the descent landed on them; a 35 mm stool leg fits.
   env = ikea_suite.load("stool_square_pine", "sawyer", seed=seed)
   timestep = env.reset()
-  controller = arm_controller.ArmAssemblyController(env)
+  controller = single_arm.ArmAssemblyController(env)
   rewards = []
   for _ in range(500):
     timestep = env.step(controller(timestep))
@@ -85,7 +85,7 @@ def test_scripted_sawyer_connects_the_first_leg_from_random_starts(seed):
 def test_controller_requires_task_space_mode():
   env = ikea_suite.load("table_four_leg_lack", "sawyer", control_mode="joint_position")
   with pytest.raises(ikea_suite.IkeaSuiteError, match="task_space"):
-    arm_controller.ArmAssemblyController(env)
+    single_arm.ArmAssemblyController(env)
 
 
 def test_sawyer_carries_a_welded_assembly_by_one_part():
@@ -94,7 +94,7 @@ def test_sawyer_carries_a_welded_assembly_by_one_part():
   timestep = env.reset()
   physics, task = env.physics, env.task
   top = task.root_part
-  controller = arm_controller.ArmAssemblyController(env)
+  controller = single_arm.ArmAssemblyController(env)
   for _ in range(500):
     timestep = env.step(controller(timestep))
     if task.state.connections:
@@ -137,7 +137,7 @@ def test_scripted_jaco_lifts_a_work_scale_leg_between_thumb_and_fingers():
   # out); the controller then grasps again. One carried second must come within 600 steps.
   env = ikea_suite.load("table_four_leg_lack", "jaco", seed=0, scale=0.5)
   env.reset()
-  controller = arm_controller.ArmAssemblyController(env)
+  controller = single_arm.ArmAssemblyController(env)
   physics, robot, furniture = env.physics, env.task.robot, env.task.furniture
   carried = 0
   for _ in range(600):
@@ -148,7 +148,7 @@ def test_scripted_jaco_lifts_a_work_scale_leg_between_thumb_and_fingers():
   assert carried == 20, "the Jaco never carried a leg for a second"
   leg = controller.job[1]
   assert not helpers.welds_on(physics).any(), "no weld may hold the part"
-  assert targets.part_pose(physics, furniture, leg)[0][2] > 0.08   # up off the floor
+  assert part_geometry.part_pose(physics, furniture, leg)[0][2] > 0.08   # up off the floor
   held = robot.held_parts_by_tool(physics, furniture.body_ids)[0]
   assert held[leg] and held.sum() == 1   # the thumb and an opposing finger touch it
 
@@ -157,7 +157,7 @@ def test_scripted_jaco_lifts_a_work_scale_leg_between_thumb_and_fingers():
 def test_scripted_jaco_connects_the_first_leg(seed):
   env = ikea_suite.load("table_four_leg_lack", "jaco", seed=seed, scale=0.5)
   timestep = env.reset()
-  controller = arm_controller.ArmAssemblyController(env)
+  controller = single_arm.ArmAssemblyController(env)
   for _ in range(1500):
     timestep = env.step(controller(timestep))
     if env.task.state.connections:
@@ -204,12 +204,12 @@ def test_scripted_jaco_keeps_a_thin_leg_in_its_hand_while_carrying_it():
   # lifted, before any carry: the fingertip height above the floor rose 0.2 mm there.)
   env = ikea_suite.load("stool_round_frosta", "jaco", seed=2, scale=0.5)
   env.reset()
-  controller = arm_controller.ArmAssemblyController(env)
+  controller = single_arm.ArmAssemblyController(env)
   physics, robot, furniture = env.physics, env.task.robot, env.task.furniture
 
   def depth_in_hand(part):
     tcp, rot = robot.tcp_pose(physics, 0)
-    return (rot.T @ (targets.part_pose(physics, furniture, part)[0] - tcp))[2]
+    return (rot.T @ (part_geometry.part_pose(physics, furniture, part)[0] - tcp))[2]
 
   for _ in range(400):
     env.step(controller())

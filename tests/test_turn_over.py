@@ -1,16 +1,16 @@
 """Turning the assembly over: a chair's legs go into its upside-down seat, then an arm
-rolls the chair onto its legs and its back goes in from above (oracle/turn_over.py)."""
+rolls the chair onto its legs and its back goes in from above (experts/turn_over.py)."""
 
 import numpy as np
 
 import ikea_suite
-from ikea_suite import geometry
 from ikea_suite import experts
-from ikea_suite.oracle import arm_controller
-from ikea_suite.oracle import arm_motion
-from ikea_suite.oracle import mating
-from ikea_suite.oracle import targets
-from ikea_suite.oracle import turn_over
+from ikea_suite import geometry
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import mating
+from ikea_suite.experts import part_geometry
+from ikea_suite.experts import single_arm
+from ikea_suite.experts import turn_over
 from ikea_suite.tasks import planner
 from tests import helpers
 
@@ -73,7 +73,7 @@ def test_panda_turns_the_chair_over_and_completes_it():
     timestep = env.step(expert(timestep))
     phases.add(expert.phase)
   assert env.task.state.complete
-  assert arm_controller.Phase.TURN_OVER in phases
+  assert single_arm.Phase.TURN_OVER in phases
   _, rotations = env.task.furniture.part_poses(env.physics)
   assert rotations[seat][2, 2] > 0.99   # the seat lies right way up, on its legs
 
@@ -87,7 +87,7 @@ def test_the_chair_is_rolled_so_that_its_back_slot_lies_out_of_the_base_s_way():
   table, slot = env.task.furniture.connectors, None
   turned = False
   for expert in helpers.expert_steps(env):
-    if expert.phase == arm_controller.Phase.TURN_OVER:
+    if expert.phase == single_arm.Phase.TURN_OVER:
       turned = True
     elif turned and slot is None:
       cpos, _ = table.world_frames(*env.task.furniture.part_poses(env.physics))
@@ -103,12 +103,12 @@ def test_a_part_put_back_from_the_assembly_is_lifted_off_it_first():
   expert = experts.make_expert(env)
   physics, furniture = env.physics, env.task.furniture
   leg = _part(env, "leg0")
-  seat_pos, _ = targets.part_pose(physics, furniture, env.task.root_part)
+  seat_pos, _ = part_geometry.part_pose(physics, furniture, env.task.root_part)
   expert._job, expert._grasp = (0, leg), expert._grasp_pose(leg)
   lengths = []
   for on_seat in (False, True):
     if on_seat:   # lying across the upturned seat
-      _, rot = targets.part_pose(physics, furniture, leg)
+      _, rot = part_geometry.part_pose(physics, furniture, leg)
       furniture.set_part_pose(physics, leg, [seat_pos[0], seat_pos[1], seat_pos[2] + 0.03],
                               geometry.mat_to_quat(rot))
       for _ in range(200):
@@ -136,7 +136,7 @@ def _legs_joined(env, count):
     seat_side = a if table.part[a] == task.root_part else b
     if joined < count:
       leg = int(table.part[b if seat_side == a else a])
-      pos, rot, _ = targets.mated_part_pose(physics, task.furniture, pair, leg, 0.0)
+      pos, rot, _ = part_geometry.mated_part_pose(physics, task.furniture, pair, leg, 0.0)
       task.furniture.set_part_pose(physics, leg, pos, geometry.mat_to_quat(rot))
       task.connect_in_place(physics, pair)
       joined += 1
@@ -152,7 +152,7 @@ def test_a_hand_reaching_in_across_the_standing_legs_is_in_their_way():
   # counts the whole hand, back to the wrist, against the parts already joined.
   env = _env()
   corner = _legs_joined(env, 3)
-  seat, _ = targets.part_pose(env.physics, env.task.furniture, env.task.root_part)
+  seat, _ = part_geometry.part_pose(env.physics, env.task.furniture, env.task.root_part)
   tool = corner + [0.0, 0.0, 0.1]   # about where the fourth leg is held, going in
   inward = np.array([*(seat[:2] - corner[:2]), 0.0]) / np.linalg.norm(seat[:2] - corner[:2])
   closing_local = experts.make_expert(env).closing_local()
@@ -181,15 +181,15 @@ def test_a_failed_turn_over_try_lets_the_arm_unwind_before_the_next():
   expert = experts.make_expert(env)
   expert.reset()
   expert._connections = len(env.task.state.connections)   # none made since it last looked
-  assert expert._unwinder.distance_from_home(robot, physics, 0) > arm_controller.UNWIND_FROM
+  assert expert._unwinder.distance_from_home(robot, physics, 0) > single_arm.UNWIND_FROM
   expert._to_next_reach()   # what a failed try ends with
-  assert expert.phase == arm_controller.Phase.UNWIND
+  assert expert.phase == single_arm.Phase.UNWIND
   timestep = None
   for _ in range(300):
     timestep = env.step(expert(timestep))
-    if expert.phase == arm_controller.Phase.TURN_OVER:
+    if expert.phase == single_arm.Phase.TURN_OVER:
       break
-  assert expert.phase == arm_controller.Phase.TURN_OVER
+  assert expert.phase == single_arm.Phase.TURN_OVER
   assert expert._unwinder.distance_from_home(robot, physics, 0) < 0.25   # home first
 
 
@@ -200,7 +200,7 @@ def test_the_unwinding_after_a_turn_over_passes_over_the_chair():
   expert = experts.make_expert(env)
   timestep = env.reset()
   expert.reset()
-  seat, phase = env.task.root_part, arm_controller.Phase
+  seat, phase = env.task.root_part, single_arm.Phase
   lowered = unwound = False
   lowest = np.inf
   for _ in range(2500):
@@ -223,7 +223,7 @@ def test_keep_clear_raises_the_unwinding_waypoints_over_the_assembly_but_not_hom
   _legs_joined(env, 4)
   robot, physics = env.task.robot, env.physics
   route = experts.make_expert(env)._clearance
-  seat_pos, _ = targets.part_pose(physics, env.task.furniture, env.task.root_part)
+  seat_pos, _ = part_geometry.part_pose(physics, env.task.furniture, env.task.root_part)
   low = np.array([seat_pos[0], seat_pos[1], 0.05])
   np.testing.assert_allclose(route.above_assembly(low), [*low[:2], route.safe_height()])
   far = low + [2.0, 0.0, 0.0]
@@ -286,8 +286,8 @@ def test_a_hand_that_pushes_the_leg_it_goes_in_to_gives_that_handle_up():
   _legs_joined(env, 4)
   over, servo, _ = _stepped_to(env, turn_over.Step.IN)
   furniture, physics = env.task.furniture, env.physics
-  for part in targets.root_group(env.task):   # the whole chair shoved 5 cm sideways
-    pos, rot = targets.part_pose(physics, furniture, part)
+  for part in part_geometry.root_group(env.task):   # the whole chair shoved 5 cm sideways
+    pos, rot = part_geometry.part_pose(physics, furniture, part)
     furniture.set_part_pose(physics, part, pos + [0.05, 0.0, 0.0], geometry.mat_to_quat(rot))
   physics.forward()
   over(servo)

@@ -1,13 +1,13 @@
 """experts.work_scale: the scale each furniture is assembled at, from the gripper fit; and
-oracle.small_parts: what the arm expert does differently below the work scale."""
+experts.below_work_scale: what the arm expert does differently below the work scale."""
 
 import numpy as np
 import pytest
 
 import ikea_suite
-from ikea_suite.experts import feasibility
+from ikea_suite.experts import below_work_scale
+from ikea_suite.experts import gripper_fit
 from ikea_suite.experts import work_scale
-from ikea_suite.oracle import small_parts
 
 
 def test_stools_stay_at_the_work_scale_and_bookcases_get_their_fit():
@@ -24,7 +24,7 @@ def test_fit_scale_is_the_largest_at_which_every_loose_part_fits():
   for s, fits in ((scale, True), (scale + 0.02, False)):
     env = ikea_suite.load("bookcase_shelf_unit_billy", "panda", scale=s, seed=0)
     env.reset()
-    assert (feasibility.grasp_problems(env) == []) == fits
+    assert (gripper_fit.grasp_problems(env) == []) == fits
 
 
 def test_a_racked_plank_bench_fits_fingers_that_close_fully_and_never_the_baxter():
@@ -45,18 +45,18 @@ def test_no_scale_fits_a_chair_seat_and_a_fitting_model_keeps_the_work_scale():
 
 def test_a_bench_end_is_held_away_from_its_connectors_below_the_work_scale():
   env = ikea_suite.load("bench_plank_pine", "sawyer", scale=0.22, seed=0)
-  assert small_parts.active(env)
+  assert below_work_scale.active(env)
   furniture = env.task.furniture
   names = [p.name for p in furniture.spec.parts]
   table = furniture.connectors
   end = names.index("end0")
-  shift = small_parts.grip_shift(furniture, end)
+  shift = below_work_scale.grip_shift(furniture, end)
   connectors = table.local_pos[table.part == end].mean(axis=0)
   assert shift[2] * connectors[2] < 0 and abs(shift[2]) > 0.02   # the far end, along its length
   assert np.count_nonzero(shift) == 1
   # The stretcher, joined at both ends, is held at its middle.
-  assert not small_parts.grip_shift(furniture, names.index("stretcher")).any()
-  assert not small_parts.active(ikea_suite.load("bench_plank_pine", "sawyer", scale=0.5, seed=0))
+  assert not below_work_scale.grip_shift(furniture, names.index("stretcher")).any()
+  assert not below_work_scale.active(ikea_suite.load("bench_plank_pine", "sawyer", scale=0.5, seed=0))
 
 
 def _grasp_height_over_part(scale):
@@ -64,14 +64,14 @@ def _grasp_height_over_part(scale):
   the fingertips' reach: the fingertips' height over the part's underside."""
   from ikea_suite import experts
   from ikea_suite import geometry
-  from ikea_suite.oracle import arm_motion
-  from ikea_suite.oracle import targets
+  from ikea_suite.experts import arm_motion
+  from ikea_suite.experts import part_geometry
   env = ikea_suite.load("table_four_leg_lack", "sawyer", scale=scale, seed=0)
   env.reset()
   expert = experts.make_expert(env)
   part = 1 if env.task.root_part != 1 else 2
   point, _ = expert._grasp_pose(part, 1.0)
-  pos, rot = targets.part_pose(env.physics, env.task.furniture, part)
+  pos, rot = part_geometry.part_pose(env.physics, env.task.furniture, part)
   bounds = env.task.furniture.spec.parts[part].bounds
   bottom = (geometry.box_corners(*bounds) @ rot.T + pos)[:, 2].min()
   return point[2] - bottom - arm_motion.fingertip_reach(env.task.robot, env.physics, 0)
@@ -79,5 +79,5 @@ def _grasp_height_over_part(scale):
 
 def test_fingertips_close_lower_on_parts_below_the_work_scale():
   assert _grasp_height_over_part(0.5) == pytest.approx(0.003, abs=1e-6)
-  assert _grasp_height_over_part(0.22) == pytest.approx(small_parts.TIP_CLEARANCE, abs=1e-6)
-  assert small_parts.TIP_CLEARANCE < 0.003
+  assert _grasp_height_over_part(0.22) == pytest.approx(below_work_scale.TIP_CLEARANCE, abs=1e-6)
+  assert below_work_scale.TIP_CLEARANCE < 0.003

@@ -8,7 +8,7 @@ from ikea_suite import experts
 from ikea_suite import geometry
 from ikea_suite.arenas import support as support_lib
 from ikea_suite.arenas import work_table
-from ikea_suite.oracle import arm_controller
+from ikea_suite.experts import single_arm
 
 ARMS = ("sawyer", "panda", "jaco", "baxter")
 H = work_table.TABLE_HEIGHT
@@ -142,7 +142,7 @@ def test_sawyer_expert_connects_a_part_on_the_table():
   carried_at = 0.0
   for _ in range(400):
     timestep = env.step(expert(timestep))
-    if expert.phase == arm_controller.Phase.ALIGN:
+    if expert.phase == single_arm.Phase.ALIGN:
       carried_at = max(carried_at, env.task.robot.tcp_positions(env.physics)[0, 2])
     if env.task.state.connections:
       break

@@ -7,8 +7,8 @@
       timestep = env.step(expert(timestep))
 
 They read privileged state (part and connector poses, the assembly graph)
-but move parts only with the robot: the Cursor oracle (oracle/cursor_oracle.py),
-the single-arm controller for Sawyer, Panda and Jaco (oracle/arm_controller.py),
+but move parts only with the robot: the Cursor oracle (experts/cursor_oracle.py),
+the single-arm controller for Sawyer, Panda and Jaco (experts/single_arm.py),
 and Baxter's two-arm expert (experts/bimanual.py). `supported(robot)` lists
 the furniture an expert assembled in at least 8 of 10 fresh seeds
 (experts/supported.py, measured by benchmarks/expert_sweep.py).
@@ -19,9 +19,9 @@ from typing import Any, Callable
 from ikea_suite import environment
 from ikea_suite import errors
 from ikea_suite.experts import bimanual
+from ikea_suite.experts import cursor_oracle
+from ikea_suite.experts import single_arm
 from ikea_suite.experts import supported as supported_lib
-from ikea_suite.oracle import arm_controller
-from ikea_suite.oracle import cursor_oracle
 from ikea_suite.props import catalog
 from ikea_suite.robots import control_modes
 
@@ -99,4 +99,4 @@ def make_expert(env: environment.Environment,
         f"control_mode={robot.control_mode!r}")
   if robot.num_arms == 2:
     return bimanual.TwoArmExpert(env)
-  return arm_controller.ArmAssemblyController(env)
+  return single_arm.ArmAssemblyController(env)

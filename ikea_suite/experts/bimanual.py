@@ -1,6 +1,6 @@
 """Baxter's expert: the two arms take turns bringing parts, each to its own side.
 
-Each arm has its own single-arm controller (oracle/arm_controller.py). Before
+Each arm has its own single-arm controller (experts/single_arm.py). Before
 a new part is fetched, the part's side of the torso chooses the arm: the
 right arm fetches parts on the right, the left arm those on the left, so
 each arm reaches across the work area as little as possible. The arm not
@@ -11,8 +11,8 @@ through the action vector.
 import dm_env
 import numpy as np
 
-from ikea_suite.oracle import arm_controller
-from ikea_suite.oracle import arm_motion
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import single_arm
 
 
 class TwoArmExpert:
@@ -25,7 +25,7 @@ class TwoArmExpert:
   def __init__(self, env):
     self._env = env
     self._robot = env.task.robot
-    self._arms = [arm_controller.ArmAssemblyController(env, arm=i) for i in range(2)]
+    self._arms = [single_arm.ArmAssemblyController(env, arm=i) for i in range(2)]
     self._idle_servos = [arm_motion.PoseServo() for _ in range(2)]
     self.reset()
 
@@ -42,7 +42,7 @@ class TwoArmExpert:
     return self._active
 
   @property
-  def phase(self) -> arm_controller.Phase:
+  def phase(self) -> single_arm.Phase:
     """The active arm's controller phase."""
     return self._arms[self._active].phase
 

@@ -4,7 +4,7 @@ which every loose part fits between its closed and open fingertips.
 
 Grasp widths shrink with the scale and the gripper does not, so a bookcase's side lying
 flat, 140 mm across at scale 0.5, fits the Panda's 79 mm at 0.24.
-`fit_scale` measures that scale from the compiled models (feasibility.grasp_problems'
+`fit_scale` measures that scale from the compiled models (gripper_fit.grasp_problems'
 test, widths as the parts lie on seed 0 at full size); SMALL_SCALES holds its values,
 so that loading needs no measurement (`python -m ikea_suite.experts.work_scale
 --robot sawyer --models ...` prints them again; tests/test_work_scale.py checks some).
@@ -52,17 +52,17 @@ def work_scale(robot, furniture):
 def fit_scale(robot, furniture, arm=0, clearance=None):
   """The largest scale, in hundredths, no larger than the robot's WORK_SCALE, at which
   every loose part is wider than the closed fingertips' gap and leaves `clearance`
-  (default feasibility.CLEARANCE, the test grasp_problems makes) within the open one; None when there is none from scaling.MIN_SCALE."""
+  (default gripper_fit.CLEARANCE, the test grasp_problems makes) within the open one; None when there is none from scaling.MIN_SCALE."""
   import ikea_suite
-  from ikea_suite.experts import feasibility
+  from ikea_suite.experts import gripper_fit
   from ikea_suite.robots import registry
-  clearance = feasibility.CLEARANCE if clearance is None else clearance
+  clearance = gripper_fit.CLEARANCE if clearance is None else clearance
   env = ikea_suite.load(furniture, robot, scale=1.0, seed=0)
   env.reset()
   robot_, physics = env.task.robot, env.physics
-  closed = feasibility.finger_gap(physics, robot_, arm, 1.0)
-  opened = feasibility.finger_gap(physics, robot_, arm, 0.0)
-  widths = np.array([feasibility.grasp_width(env, part)
+  closed = gripper_fit.finger_gap(physics, robot_, arm, 1.0)
+  opened = gripper_fit.finger_gap(physics, robot_, arm, 0.0)
+  widths = np.array([gripper_fit.grasp_width(env, part)
                      for part in range(len(env.task.furniture.parts))
                      if part != env.task.root_part])
   largest = (opened - clearance) / widths.max()   # widths scale with the furniture

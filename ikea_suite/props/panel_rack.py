@@ -26,7 +26,7 @@ FIN_THICKNESS = 0.005  # m
 MARGIN = 0.01         # m the plate reaches beyond the slots and fins
 # The fins reach 0.4 of the shortest panel's height, at most 30 mm, and leave its top
 # FINGER_ROOM clear: low enough that the fingertips, which take a panel by its top 20 mm
-# (oracle/grasp_pose.EDGE_GRIP), stay above them, high enough that a panel leans at most
+# (experts/top_down_grasp.EDGE_GRIP), stay above them, high enough that a panel leans at most
 # play / fin height (5 degrees for a 60 mm box wall) in its slot.
 FIN_HEIGHT_FRACTION = 0.4
 MAX_FIN_HEIGHT = 0.03

@@ -18,7 +18,7 @@ from ikea_suite.props import panel_rack
 
 PANEL_RATIO = 0.26   # a bench's 20 x 80 mm stretcher (a quarter) is a panel
 # Standing, a racked panel's top must clear the fins by the fingers' grip on its top edge
-# (20 mm, oracle/grasp_pose.EDGE_GRIP) with room to spare (panel_rack.FINGER_ROOM); the
+# (20 mm, experts/top_down_grasp.EDGE_GRIP) with room to spare (panel_rack.FINGER_ROOM); the
 # expert takes a panel this tall or taller by its top edge.
 MIN_HEIGHT = 0.035
 # The rack stands where its farthest slot lies this far (m) within the arm's reach: the
@@ -27,7 +27,7 @@ MIN_HEIGHT = 0.035
 RACK_SPARE = 0.1
 # A panel that hangs this far (m) below the root lying as placed (a chair's back under
 # its upside-down seat) goes in once the expert has turned the assembly over
-# (oracle/turn_over.py), so it stands in the rack the way up it will then have.
+# (experts/turn_over.py), so it stands in the rack the way up it will then have.
 UNDER = 0.01
 
 

@@ -25,7 +25,7 @@ from ikea_suite import cli as rollout
 from ikea_suite import errors
 from ikea_suite.design import validate
 from ikea_suite.design.original import convert
-from ikea_suite.oracle import cursor_oracle
+from ikea_suite.experts import cursor_oracle
 
 SKIPPED = "skipped"
 COLUMNS = ("model", "parts", "connectors", "mated pairs", "validation", "oracle")

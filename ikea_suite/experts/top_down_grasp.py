@@ -5,10 +5,10 @@ where both open fingers land clear of other parts (privileged state; nothing mov
 import numpy as np
 
 from ikea_suite import geometry
-from ikea_suite.oracle import arm_motion
-from ikea_suite.oracle import finger_room
-from ikea_suite.oracle import small_parts
-from ikea_suite.oracle import targets
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import below_work_scale
+from ikea_suite.experts import finger_room
+from ikea_suite.experts import part_geometry
 from ikea_suite.tasks import panel_placement
 
 # A panel standing TALL or taller (in the rack, props/panel_rack.py) is taken by its
@@ -48,8 +48,8 @@ class TopDownGrasp:
     """Tool pose at the part's grasp point: pointing down, fingers across its long axis,
     closing along +-1 (`sign`: which of the two symmetric grasps)."""
     physics, furniture = self._env.physics, self._env.task.furniture
-    point = targets.grasp_point(physics, furniture, part)
-    part_pos, part_rot = targets.part_pose(physics, furniture, part)
+    point = part_geometry.grasp_point(physics, furniture, part)
+    part_pos, part_rot = part_geometry.part_pose(physics, furniture, part)
     bounds = furniture.spec.parts[part].bounds
     corners = geometry.box_corners(*bounds) @ part_rot.T + part_pos
     # As low as the fingertips allow (3 mm above the part's underside), so the pads
@@ -64,11 +64,11 @@ class TopDownGrasp:
     if route.pad_below is None:   # measured at the first grasp, with the arm at home
       route.pad_below = arm_motion.fingertip_reach(self._robot, physics, self._arm)
     point, tip_clearance = point.copy(), 0.003
-    if small_parts.active(self._env):   # held away from its connectors: the hand stays high
-      shift = small_parts.grip_shift(furniture, part)
+    if below_work_scale.active(self._env):   # held away from its connectors: the hand stays high
+      shift = below_work_scale.grip_shift(furniture, part)
       if shift.any():
         point = part_pos + part_rot @ shift
-      tip_clearance = small_parts.TIP_CLEARANCE
+      tip_clearance = below_work_scale.TIP_CLEARANCE
     point[2] = max(corners[:, 2].min(), self._surface) + route.pad_below + tip_clearance
     if self.by_top_edge(part):   # at the middle of its top edge, which a lean moves aside
       up = int(np.argmax(np.abs(part_rot[2])))
@@ -76,9 +76,9 @@ class TopDownGrasp:
       face[up] = bounds[int(part_rot[2, up] > 0)][up]
       point = part_pos + part_rot @ face
       point[2] += route.pad_below - EDGE_GRIP
-    closing = targets.across_long_axis(part_rot, bounds) * sign
+    closing = part_geometry.across_long_axis(part_rot, bounds) * sign
     rot = arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
-    if not small_parts.active(self._env):   # (small parts are held near one end already)
+    if not below_work_scale.active(self._env):   # (small parts are held near one end already)
       point = point + part_rot @ self._room_shift(part, sign, point, rot)
     return point, rot
 
@@ -88,7 +88,7 @@ class TopDownGrasp:
     hang from the fingers like a pendulum. Legs, rails and blocks are taken as low as
     the fingertips allow however they lie."""
     physics, furniture = self._env.physics, self._env.task.furniture
-    _, part_rot = targets.part_pose(physics, furniture, part)
+    _, part_rot = part_geometry.part_pose(physics, furniture, part)
     bounds = furniture.spec.parts[part].bounds
     height = np.ptp((geometry.box_corners(*bounds) @ part_rot.T)[:, 2])
     return bool(height >= TALL and panel_placement.is_panel(bounds[1] - bounds[0]))
@@ -102,6 +102,6 @@ class TopDownGrasp:
       if self._finger_points is None:
         self._finger_points = finger_room.finger_points(self._robot, physics, self._arm)
       shift = finger_room.clear_shift(physics, furniture, part, point, rot,
-                                      self._finger_points, small_parts.PAD_ROOM)
-      self._room_shifts[key] = targets.part_pose(physics, furniture, part)[1].T @ shift
+                                      self._finger_points, below_work_scale.PAD_ROOM)
+      self._room_shifts[key] = part_geometry.part_pose(physics, furniture, part)[1].T @ shift
     return self._room_shifts[key]

@@ -4,14 +4,14 @@ whether a connector pair is aligned well within the task's thresholds."""
 
 import numpy as np
 
-from ikea_suite.oracle import targets
+from ikea_suite.experts import part_geometry
 
 
 def holding(physics, robot, arm, furniture, part):
   """The part is near the tool and squeezed: between fingers that stay apart, or touched
   by two fingers (the robot's own test), since a thin part can hold the fingers at their
   closed limit, opening 0."""
-  part_pos = targets.grasp_point(physics, furniture, part)
+  part_pos = part_geometry.grasp_point(physics, furniture, part)
   tcp_pos, _ = robot.tcp_pose(physics, arm)
   bounds = furniture.spec.parts[part].bounds
   if np.linalg.norm(part_pos - tcp_pos) >= 0.6 * np.max(bounds[1] - bounds[0]):

@@ -8,8 +8,8 @@ straight up from beside it, and swing around the base rather than across it.
 
 import numpy as np
 
-from ikea_suite.oracle import arm_motion
-from ikea_suite.oracle import targets
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import part_geometry
 
 
 class AssemblyClearance:
@@ -27,8 +27,8 @@ class AssemblyClearance:
   def assembly_top(self):
     """Height of the highest corner of the parts joined to the root (or of the surface)."""
     task, physics = self._env.task, self._env.physics
-    return max(self._surface, targets.parts_corners(
-        physics, task.furniture, targets.root_group(task))[:, 2].max())
+    return max(self._surface, part_geometry.parts_corners(
+        physics, task.furniture, part_geometry.root_group(task))[:, 2].max())
 
   def safe_height(self, clearance=0.08):
     """Tool height at which the open fingers pass `clearance` over the assembly."""
@@ -47,7 +47,7 @@ class AssemblyClearance:
       return goal
     task, physics = self._env.task, self._env.physics
     safe = self.safe_height(clearance)
-    centre, radius = targets.assembly_circle(physics, task.furniture, task.root_part)
+    centre, radius = part_geometry.assembly_circle(physics, task.furniture, task.root_part)
     if pos[2] < safe - 0.02 and np.linalg.norm(pos[:2] - centre) < radius + 0.15:
       # Up from where the rise began: re-aimed from the present position each step,
       # the hand drifted sideways into the leg beside it as it rose (Panda, seeds 0-4).
@@ -69,12 +69,12 @@ class AssemblyClearance:
     furniture = task.furniture
     pos, _ = self._robot.tcp_pose(physics, self._arm)
     positions, rotations = furniture.part_poses(physics)
-    held = targets.part_corners(furniture, part, positions[part], rotations[part])
+    held = part_geometry.part_corners(furniture, part, positions[part], rotations[part])
     shifted = held[:, :2] + (waypoint[:2] - pos[:2])
     low, high = shifted.min(0) - margin, shifted.max(0) + margin
     bottom, blocking = held[:, 2].min(), -np.inf
-    for other in targets.root_group(task):
-      corners = targets.part_corners(furniture, other, positions[other], rotations[other])
+    for other in part_geometry.root_group(task):
+      corners = part_geometry.part_corners(furniture, other, positions[other], rotations[other])
       if (corners[:, 2].max() + clearance > bottom
           and (corners[:, :2].max(0) > low).all() and (corners[:, :2].min(0) < high).all()):
         blocking = max(blocking, corners[:, 2].max())
@@ -90,7 +90,7 @@ class AssemblyClearance:
     """`pos` raised to safe_height where it lies within `margin` of the assembly's
     footprint circle; elsewhere unchanged."""
     task, physics = self._env.task, self._env.physics
-    centre, radius = targets.assembly_circle(physics, task.furniture, task.root_part)
+    centre, radius = part_geometry.assembly_circle(physics, task.furniture, task.root_part)
     if np.linalg.norm(pos[:2] - centre) >= radius + margin:
       return pos
     return np.array([pos[0], pos[1], max(pos[2], self.safe_height(clearance))])
@@ -98,7 +98,7 @@ class AssemblyClearance:
   def carry_floor(self, goal, part, part_pos, part_rot, clearance=0.03):
     """Lowest tool height (m) over the tool goal `goal` at which `part`, held as it will sit
     at (part_pos, part_rot), passes `clearance` over the assembly."""
-    corners = targets.part_corners(self._env.task.furniture, part, part_pos, part_rot)
+    corners = part_geometry.part_corners(self._env.task.furniture, part, part_pos, part_rot)
     return self.assembly_top() + clearance + goal[2] - corners[:, 2].min()
 
   def reachable_carry(self, goal, rot, top, floor, step=0.02):

@@ -3,8 +3,8 @@ the tool pose that puts the part there (privileged state; nothing moves)."""
 
 import numpy as np
 
-from ikea_suite.oracle import arm_motion
-from ikea_suite.oracle import targets
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import part_geometry
 from ikea_suite.tasks import planner
 
 _ANY_TWIST_GRID = np.radians(np.arange(0, 360, 45))
@@ -60,7 +60,7 @@ def tool_goal_for_part(env, arm, part, part_goal_pos, part_goal_rot, grip=None):
   defaults to the measured one."""
   if grip is None:
     physics, robot = env.physics, env.task.robot
-    part_pos, part_rot = targets.part_pose(physics, env.task.furniture, part)
+    part_pos, part_rot = part_geometry.part_pose(physics, env.task.furniture, part)
     tcp_pos, tcp_rot = robot.tcp_pose(physics, arm)
     grip = part_rot.T @ (tcp_pos - part_pos), part_rot.T @ tcp_rot
   grip_pos, grip_rot = grip
@@ -74,12 +74,12 @@ def _other_connectors(table, moving, pair):
 
 
 def mate_pose(env, pair, moving, twist):
-  """targets.mated_part_pose of `moving` for the pair at `twist`: (position, rotation, side
+  """part_geometry.mated_part_pose of `moving` for the pair at `twist`: (position, rotation, side
   to approach from). A part that bridges the assembly there (another of its connectors
   then meets one of the assembly's too, as a bench's stretcher meets both ends) comes
   in from above: along its own axis, from the side, it would run through the far end."""
   task, physics = env.task, env.physics
-  part_pos, part_rot, side = targets.mated_part_pose(physics, task.furniture, pair, moving,
+  part_pos, part_rot, side = part_geometry.mated_part_pose(physics, task.furniture, pair, moving,
                                                      twist)
   table = task.furniture.connectors
   groups = task.state.group_labels()
@@ -106,7 +106,7 @@ def off_design(env, moving, part_pos, part_rot, pair):
   mine = _other_connectors(table, moving, pair)
   if not mine.size:
     return 0.0
-  rotation, translation = targets.design_to_world(physics, furniture, task.root_part)
+  rotation, translation = part_geometry.design_to_world(physics, furniture, task.root_part)
   parts = furniture.spec.parts
   designed = np.array([rotation @ (parts[p].rot @ local + parts[p].pos) + translation
                        for p, local in zip(table.part, table.local_pos)])
@@ -134,7 +134,7 @@ def hand_in_the_way(env, arm, tool_pos, tool_rot):
   hand = tool_pos + np.linspace(0.0, arm_motion.WRIST_BACK, 11)[:, None] * back
   positions, rotations = task.furniture.part_poses(physics)
   overlap = 0.0
-  for part in targets.root_group(task):
+  for part in part_geometry.root_group(task):
     if part == task.root_part:
       continue
     low, high = task.furniture.spec.parts[part].bounds
@@ -160,14 +160,14 @@ def in_a_later_carry(env, moving, pair, part_pos, part_rot, carry_top):
   others = [p for p in task.initializer.racked_parts if p != moving and groups[p] != built]
   if not others:   # stools and tables: nothing racked is still to come
     return False
-  mine = targets.part_corners(furniture, moving, part_pos, part_rot)
+  mine = part_geometry.part_corners(furniture, moving, part_pos, part_rot)
   positions, rotations = furniture.part_poses(physics)
   cpos, _ = table.world_frames(positions, rotations)
   base, base_rot = robot.base_pose
   heading = np.arctan2(base_rot[1, 0], base_rot[0, 0])
   taken = (table.pair_a[pair], table.pair_b[pair])
   for other in others:
-    theirs = targets.part_corners(furniture, other, positions[other], rotations[other])
+    theirs = part_geometry.part_corners(furniture, other, positions[other], rotations[other])
     if mine[:, 2].max() + np.ptp(theirs[:, 2]) + 0.03 <= carry_top:
       continue
     near = (np.linalg.norm(mine[:, :2] - part_pos[:2], axis=1).max()
@@ -211,7 +211,7 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None, start=No
   groups = state.group_labels()
   base_pos, _ = robot.base_pose
   part_xy = task.furniture.part_poses(physics)[0][moving][:2]
-  # Mates nearby first; from the rack, the farthest first (see jobs.nearest_open_job).
+  # Mates nearby first; from the rack, the farthest first (see next_part.nearest_open_job).
   nearby = -0.3 if moving in task.initializer.racked_parts else 0.3
   best = None
   for pair in np.flatnonzero(planner.open_pairs(table, state)):
@@ -255,7 +255,7 @@ def choose_grasp_sign(env, arm, moving, grasp_pose, hover, approach, failed_plan
   the trestle went to the near mate, where the next one's carry struck it (Panda,
   w120_white seed 2)."""
   physics, furniture, robot = env.physics, env.task.furniture, env.task.robot
-  part_pos, part_rot = targets.part_pose(physics, furniture, moving)
+  part_pos, part_rot = part_geometry.part_pose(physics, furniture, moving)
   best = None
   for sign in (1.0, -1.0):
     point, rot = grasp_pose(moving, sign)

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from ikea_suite.oracle import turn_over
+from ikea_suite.experts import turn_over
 from ikea_suite.tasks import planner
 
 

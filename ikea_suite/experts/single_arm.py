@@ -13,15 +13,15 @@ import numpy as np
 
 from ikea_suite import errors
 from ikea_suite import geometry
-from ikea_suite.oracle import arm_motion
-from ikea_suite.oracle import clearance
-from ikea_suite.oracle import grasp_motion
-from ikea_suite.oracle import grasp_pose
-from ikea_suite.oracle import jobs
-from ikea_suite.oracle import mating
-from ikea_suite.oracle import sensing
-from ikea_suite.oracle import targets
-from ikea_suite.oracle import turn_over
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import clearance
+from ikea_suite.experts import grasp_motion
+from ikea_suite.experts import mating
+from ikea_suite.experts import next_part
+from ikea_suite.experts import part_geometry
+from ikea_suite.experts import sensing
+from ikea_suite.experts import top_down_grasp
+from ikea_suite.experts import turn_over
 from ikea_suite.robots import control_modes
 
 # Rad of any joint from home beyond which the arm goes home in joint space between parts.
@@ -64,7 +64,7 @@ class ArmAssemblyController:
     self._surface = env.task.arena.support.height
     self._clearance = clearance.AssemblyClearance(env, arm, self._surface)
     self._carry_height = clearance.CarryHeight(self._clearance, self._surface + carry)
-    self._grasps = grasp_pose.TopDownGrasp(env, arm, self._surface, self._clearance)
+    self._grasps = top_down_grasp.TopDownGrasp(env, arm, self._surface, self._clearance)
     self._servo = arm_motion.PoseServo()
     self._unwinder = arm_motion.Unwinder()
     self._carry_watch = arm_motion.ProgressWatch(window=80)
@@ -83,7 +83,7 @@ class ArmAssemblyController:
     self._connections = 0
     self._job = None   # (pair, moving part)
     self._grasp = None   # (position, rotation) of the tool at the grasp
-    self._hanging = False   # the part is held by its top edge (grasp_pose.by_top_edge)
+    self._hanging = False   # the part is held by its top edge (top_down_grasp.by_top_edge)
     self._plan = None   # (pair, twist) the held part is brought to
     self._grasp_sign = 1.0   # which of the two symmetric grasps
     self._unreachable = set()   # parts the arm stalled on; skipped until the next connection
@@ -116,7 +116,7 @@ class ArmAssemblyController:
 
   def _choose_job(self):
     base, _ = self._robot.base_pose
-    return jobs.nearest_open_job(self._env.task, self._env.physics, base, self._unreachable)
+    return next_part.nearest_open_job(self._env.task, self._env.physics, base, self._unreachable)
 
   # -- geometry from privileged state -----------------------------------------------
 
@@ -125,7 +125,7 @@ class ArmAssemblyController:
     return self._grasps.closing_local()
 
   def _grasp_pose(self, part, sign=None):
-    """Tool pose at the part's grasp point (grasp_pose.TopDownGrasp), with the present grasp
+    """Tool pose at the part's grasp point (top_down_grasp.TopDownGrasp), with the present grasp
     or the one of `sign`."""
     return self._grasps.pose(part, self._grasp_sign if sign is None else sign)
 
@@ -236,7 +236,7 @@ class ArmAssemblyController:
         self._carry_height.reset()
         if self._plan is not None:
           self._plan = self._plan[1:]
-          self._root_at_plan = targets.part_pose(physics, task.furniture, task.root_part)[0]
+          self._root_at_plan = part_geometry.part_pose(physics, task.furniture, task.root_part)[0]
         else:
           self._no_mate_left(moving)
           return action
@@ -248,7 +248,7 @@ class ArmAssemblyController:
       # after the carry: aborting carries dropped legs of tall tables on the assembly).
       # Lift clear and plan another mate or twist.
       self._inserting = self._inserting + 1 if phase == Phase.INSERT else 0
-      pushed = not self._carrying and np.linalg.norm(targets.part_pose(
+      pushed = not self._carrying and np.linalg.norm(part_geometry.part_pose(
           physics, task.furniture, task.root_part)[0] - self._root_at_plan) > 0.03
       if self._stalled > 2 * self._stall_steps or self._inserting > self._insert_steps or pushed:
         self._failed_plans.add((pair, twist))
@@ -281,7 +281,7 @@ class ArmAssemblyController:
       # The last centimetres slowly: at gain 0.6 the arm hunted +-1 cm about the goal.
       poses[:] = self._servo(robot, physics, arm, *goal, gain=0.6 if phase == Phase.ALIGN else 0.3,
                              max_speed=grasp_motion.HANGING_SPEED if self._hanging else 1.0)
-      current, rot = targets.part_pose(physics, task.furniture, moving)
+      current, rot = part_geometry.part_pose(physics, task.furniture, moving)
       distance = np.linalg.norm(part_pos + offset * side - current)
       angle = np.linalg.norm(geometry.mat_to_axis_angle(part_rot @ rot.T))
       # A hanging panel goes down between standing walls with 3 mm to spare (half scale).
@@ -387,6 +387,6 @@ class ArmAssemblyController:
     task, spot = self._env.task, self._grasp[0]
     self._put_back_path = [spot + [0.0, 0.0, z] for z in (tcp[2] - spot[2], self._lift, 0.008)]
     if sensing.touching(self._env.physics, task.furniture, self._job[1],
-                        targets.root_group(task)):
+                        part_geometry.root_group(task)):
       self._put_back_path.insert(0, tcp + [0.0, 0.0, 0.05])
     self.phase, self._counter = Phase.PUT_BACK, 0

@@ -15,9 +15,9 @@ import enum
 import numpy as np
 
 from ikea_suite import geometry
-from ikea_suite.oracle import arm_motion
-from ikea_suite.oracle import sensing
-from ikea_suite.oracle import targets
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import part_geometry
+from ikea_suite.experts import sensing
 from ikea_suite.tasks import planner
 
 # A part mated this far (m) or more below the surface would sit in it: its mate waits.
@@ -56,9 +56,9 @@ def _twist(table, pair):
 def under_support(physics, furniture, pair, moving, surface):
   """Whether `moving`, mated at the pair onto the assembly as it lies, would reach BELOW
   or more into the surface (a chair's back under its upside-down seat)."""
-  pos, rot, _ = targets.mated_part_pose(physics, furniture, pair, moving,
+  pos, rot, _ = part_geometry.mated_part_pose(physics, furniture, pair, moving,
                                         _twist(furniture.connectors, pair))
-  corners = targets.part_corners(furniture, moving, pos, rot)
+  corners = part_geometry.part_corners(furniture, moving, pos, rot)
   return bool(corners[:, 2].min() < surface - BELOW)
 
 
@@ -81,12 +81,12 @@ def handles(physics, furniture, parts, root):
   """[(part, approach, closing)]: each standing rod of the group other than the root (a
   leg), taken from outside the assembly along one of its side faces' normals
   (`approach`, unit, horizontal), the fingers closing across it (`closing`, either way)."""
-  centre = targets.parts_corners(physics, furniture, parts)[:, :2].mean(axis=0)
+  centre = part_geometry.parts_corners(physics, furniture, parts)[:, :2].mean(axis=0)
   out = []
   for part in parts:
     if part == root:
       continue
-    pos, rot = targets.part_pose(physics, furniture, part)
+    pos, rot = part_geometry.part_pose(physics, furniture, part)
     lo, hi = furniture.spec.parts[part].bounds
     order = np.argsort(hi - lo)
     if abs(rot[2, order[2]]) < 0.95 or (hi - lo)[order[1]] > 0.3 * (hi - lo)[order[2]]:
@@ -142,17 +142,17 @@ class TurnOver:
     self._failed_handles = set()   # (part, approach) that slipped or stalled, this episode
 
   def _group(self):
-    return targets.root_group(self._env.task)
+    return part_geometry.root_group(self._env.task)
 
   def _plan(self, part, approach, closing):
     """(grasp position, grasp rotation, lift height) for a handle, or None when the legs
     are too short to hold above the rest of the assembly."""
     physics, furniture = self._env.physics, self._env.task.furniture
-    pos, _ = targets.part_pose(physics, furniture, part)
+    pos, _ = part_geometry.part_pose(physics, furniture, part)
     rot = arm_motion.tool_rotation(approach, closing, self._closing_local)
-    handle_top = targets.parts_corners(physics, furniture, [part])[:, 2].max()
+    handle_top = part_geometry.parts_corners(physics, furniture, [part])[:, 2].max()
     height = max(
-        targets.parts_corners(physics, furniture, [self._env.task.root_part])[:, 2].max() + OVER_SEAT,
+        part_geometry.parts_corners(physics, furniture, [self._env.task.root_part])[:, 2].max() + OVER_SEAT,
         self._surface + HAND_CLEARANCE + arm_motion.hand_below_tool(
             self._env.task.robot, physics, self._arm, rot))
     if height > handle_top - 0.02:
@@ -160,7 +160,7 @@ class TurnOver:
     point = np.array([pos[0], pos[1], height])
     # Lifted by `lift`, every corner swings about the approach axis through the grasp
     # point at most `reach` from it, and clears the surface by ROLL_CLEARANCE.
-    corners = targets.parts_corners(physics, furniture, self._group()) - point
+    corners = part_geometry.parts_corners(physics, furniture, self._group()) - point
     across = corners - np.outer(corners @ approach, approach)
     reach = np.linalg.norm(across, axis=1).max()
     lift = max(0.0, self._surface + ROLL_CLEARANCE + reach - height)
@@ -176,7 +176,7 @@ class TurnOver:
     base, _ = robot.base_pose
     cpos, _ = task.furniture.connectors.world_frames(*task.furniture.part_poses(physics))
     slots = cpos[waiting(task, physics, self._surface)]
-    centre = targets.parts_corners(physics, task.furniture, self._group()).mean(axis=0)
+    centre = part_geometry.parts_corners(physics, task.furniture, self._group()).mean(axis=0)
     best = None
     every = handles(physics, task.furniture, self._group(), task.root_part)
     options = [h for h in every if (h[0], tuple(np.round(h[1], 1))) not in self._failed_handles]
@@ -235,7 +235,7 @@ class TurnOver:
     if self.step == Step.STANDOFF:
       return standoff, self._rot
     if self.step in (Step.IN, Step.CLOSE):   # to the leg where it stands now
-      pos, _ = targets.part_pose(self._env.physics, self._env.task.furniture, self._part)
+      pos, _ = part_geometry.part_pose(self._env.physics, self._env.task.furniture, self._part)
       self._point[:2] = pos[:2]
       return self._point, self._rot
     if self.step == Step.LIFT:
@@ -245,7 +245,7 @@ class TurnOver:
       return up, rolled
     tcp, _ = self._env.task.robot.tcp_pose(self._env.physics, self._arm)
     if self.step == Step.LOWER:
-      lowest = targets.parts_corners(self._env.physics, self._env.task.furniture,
+      lowest = part_geometry.parts_corners(self._env.physics, self._env.task.furniture,
                              self._group())[:, 2].min()
       return tcp - [0.0, 0.0, lowest - self._surface - DROP], rolled
     if self.step == Step.UP:
@@ -266,7 +266,7 @@ class TurnOver:
                    max_speed=0.3 if self.step in (Step.IN, Step.LIFT, Step.LOWER) else 1.0)
     distance, angle = arm_motion.pose_error(robot, physics, arm, *goal)
     self._count += 1
-    pushed = self.step == Step.IN and np.linalg.norm(targets.part_pose(
+    pushed = self.step == Step.IN and np.linalg.norm(part_geometry.part_pose(
         physics, env.task.furniture, self._part)[0][:2] - self._leg_at) > PUSHED
     slipped = self.step in (Step.LIFT, Step.ROLL, Step.LOWER) and not sensing.holding(
         physics, robot, arm, env.task.furniture, self._part)
@@ -329,5 +329,5 @@ class TurnOver:
     if self.step == Step.OPEN:
       self._set_out()
     if self.step == Step.IN:
-      self._leg_at = targets.part_pose(self._env.physics, self._env.task.furniture,
+      self._leg_at = part_geometry.part_pose(self._env.physics, self._env.task.furniture,
                                        self._part)[0][:2].copy()

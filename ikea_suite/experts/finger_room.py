@@ -11,8 +11,8 @@ clear, while the pads still cover it.
 import mujoco
 import numpy as np
 
-from ikea_suite.oracle import arm_motion
-from ikea_suite.oracle import targets
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import part_geometry
 
 # Room (m) the fingers keep from another part's collision box.
 MARGIN = 0.003
@@ -44,7 +44,7 @@ def lands_on_another_part(physics, furniture, part, points, margin=MARGIN):
   for other in range(len(furniture.parts)):
     if other == part:
       continue
-    pos, rot = targets.part_pose(physics, furniture, other)
+    pos, rot = part_geometry.part_pose(physics, furniture, other)
     low, high = furniture.spec.parts[other].bounds
     local = (points - pos) @ rot
     if np.any(np.all((local > low - margin) & (local < high + margin), axis=1)):
@@ -57,7 +57,7 @@ def clear_shift(physics, furniture, part, point, tool_rot, tool_points, pad_room
   where the open fingers (`tool_points`, tool frame, with the tool at `tool_rot`) land
   clear of every other part, at most to `pad_room` from the part's ends; zero when its
   middle is clear or no point along it is."""
-  pos, rot = targets.part_pose(physics, furniture, part)
+  pos, rot = part_geometry.part_pose(physics, furniture, part)
   low, high = furniture.spec.parts[part].bounds
   axis = int(np.argmax(high - low))
   at = (rot.T @ (point - pos))[axis]

@@ -2,7 +2,7 @@
 cannot assemble whatever its luck.
 
 The single-arm expert takes a part from above, fingers closing across the part's long
-axis (oracle/targets.across_long_axis). That needs the part's width along the closing
+axis (experts/part_geometry.across_long_axis). That needs the part's width along the closing
 direction to be less than the open fingers' gap and more than the closed fingers' gap:
 a wider part does not fit between them, and a thinner one is never squeezed (it hangs
 between fingers stopped at their closed limit and falls at the first swing). Panels,
@@ -17,8 +17,8 @@ import mujoco
 import numpy as np
 
 from ikea_suite import geometry
-from ikea_suite.oracle import arm_motion
-from ikea_suite.oracle import targets
+from ikea_suite.experts import arm_motion
+from ikea_suite.experts import part_geometry
 
 
 @dataclasses.dataclass(frozen=True)
@@ -63,10 +63,10 @@ def finger_gap(physics, robot, arm=0, fraction=1.0):
 def grasp_width(env, part):
   """The part's width (m) along the direction a top-down grasp closes on it, as it lies."""
   furniture = env.task.furniture
-  _, rot = targets.part_pose(env.physics, furniture, part)
+  _, rot = part_geometry.part_pose(env.physics, furniture, part)
   bounds = furniture.spec.parts[part].bounds
   corners = geometry.box_corners(*bounds) @ rot.T
-  return float(np.ptp(corners @ targets.across_long_axis(rot, bounds)))
+  return float(np.ptp(corners @ part_geometry.across_long_axis(rot, bounds)))
 
 
 def grasp_problems(env, arm=0, clearance=CLEARANCE):

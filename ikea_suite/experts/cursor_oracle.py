@@ -15,7 +15,7 @@ import numpy as np
 
 from ikea_suite import geometry
 from ikea_suite.assembly import sequence
-from ikea_suite.oracle import targets
+from ikea_suite.experts import part_geometry
 from ikea_suite.robots import cursor as cursor_lib
 from ikea_suite.tasks import planner
 
@@ -91,7 +91,7 @@ class CursorOracle:
     takes out what gravity and contacts leave (the part sagging in the grip).
     """
     physics, robot, dt = self._env.physics, self._env.task.robot, self._env.control_timestep()
-    part_pos, part_rot = targets.part_pose(physics, self._env.task.furniture, part)
+    part_pos, part_rot = part_geometry.part_pose(physics, self._env.task.furniture, part)
     error_pos = target_pos - part_pos
     error_rot = geometry.mat_to_axis_angle(target_rot @ part_rot.T)
     bias_pos, bias_rot = self._bias[i]
@@ -135,7 +135,7 @@ class CursorOracle:
     self._bias[i] = (np.zeros(3), np.zeros(3))
     if self._env.task.robot.held_parts[i] >= 0:
       return False   # select stays off this step: let go of the other part first
-    point = targets.grasp_point(self._env.physics, self._env.task.furniture, part)
+    point = part_geometry.grasp_point(self._env.physics, self._env.task.furniture, part)
     self._move_to(action, i, point)
     if np.linalg.norm(point - self._cursor(i)[0]) < _GRAB_RANGE:
       action[i * _PER_CURSOR + 6] = 1.0
@@ -143,7 +143,7 @@ class CursorOracle:
 
   def _raise_height(self, part):
     """Carrying height: however the part turns, it stays above parts lying on the floor."""
-    return targets.part_radius(self._env.task.furniture, part) + _FLOOR_CLEARANCE
+    return part_geometry.part_radius(self._env.task.furniture, part) + _FLOOR_CLEARANCE
 
   # -- the base cursor: the root part -----------------------------------------
 
@@ -163,7 +163,7 @@ class CursorOracle:
       self._base_phase = Phase.REACH
       return False
     action[b * _PER_CURSOR + 6] = 1.0
-    pos, rot = targets.part_pose(self._env.physics, task.furniture, held)
+    pos, rot = part_geometry.part_pose(self._env.physics, task.furniture, held)
     target_pos, target_rot = self._base_target(held)
     if self._base_phase == Phase.REACH:
       # Straight back into place after a hand-back; from the floor, up first.
@@ -211,8 +211,8 @@ class CursorOracle:
     # Placed relative to the partner it is welded to, not the root: a long chain of
     # soft welds sags, and the partner's slot is where the part must meet it.
     anchor = task.root_part if self._anchor is None else self._anchor
-    goal_pos, goal_rot = targets.assembled_pose(physics, task.furniture, anchor, step.part)
-    rotation, _ = targets.design_to_world(physics, task.furniture, anchor)
+    goal_pos, goal_rot = part_geometry.assembled_pose(physics, task.furniture, anchor, step.part)
+    rotation, _ = part_geometry.design_to_world(physics, task.furniture, anchor)
     pos = goal_pos + rotation @ np.asarray(step.waypoints[k])
     if k < len(step.waypoints) - 1:
       return pos, goal_rot
@@ -221,7 +221,7 @@ class CursorOracle:
     back = rotation @ (np.asarray(step.waypoints[k - 1]) - np.asarray(step.waypoints[k]))
     pos = pos + _STANDOFF * back / max(np.linalg.norm(back), 1e-9)
     if self._pivot is not None:
-      return targets.tilt_about(pos, goal_rot, *self._pivot, _PIVOT_TILT)
+      return part_geometry.tilt_about(pos, goal_rot, *self._pivot, _PIVOT_TILT)
     return pos, goal_rot
 
   def _plan_route(self, step):
@@ -229,13 +229,13 @@ class CursorOracle:
     physics, task = self._env.physics, self._env.task
     furniture, root = task.furniture, task.root_part
     joined = [p for p in range(len(furniture.parts)) if task.state.same_group(p, root)]
-    preferred = targets.preferred_connector(physics, furniture, step.part, joined)
+    preferred = part_geometry.preferred_connector(physics, furniture, step.part, joined)
     self._pivot, self._preferred, self._anchor = preferred if preferred else (None, None, root)
     entry, goal_rot = self._path_pose(step, 0)
-    centre, radius = targets.assembly_circle(physics, furniture, root)
-    reach = radius + targets.part_radius(furniture, step.part) + self._clearance
-    start, start_rot = targets.part_pose(physics, furniture, step.part)
-    travel = targets.route(start, entry, centre, reach, start[2])
+    centre, radius = part_geometry.assembly_circle(physics, furniture, root)
+    reach = radius + part_geometry.part_radius(furniture, step.part) + self._clearance
+    start, start_rot = part_geometry.part_pose(physics, furniture, step.part)
+    travel = part_geometry.route(start, entry, centre, reach, start[2])
     # Keep the part's orientation on the way out; turn it once outside the circle.
     points = [(travel[0], start_rot)] + [(p, goal_rot) for p in travel[1:-1]]
     return points + list(range(len(step.waypoints)))
@@ -251,7 +251,7 @@ class CursorOracle:
       self._phase = Phase.REACH
       return False
     action[m * _PER_CURSOR + 6] = 1.0
-    pos, rot = targets.part_pose(physics, task.furniture, part)
+    pos, rot = part_geometry.part_pose(physics, task.furniture, part)
     if self._phase == Phase.REACH:
       self._phase = Phase.RAISE
     if self._phase == Phase.RAISE:
@@ -324,7 +324,7 @@ class CursorOracle:
     grasp point, then lets go while the base cursor grabs the root again."""
     b, m = self._base, 1 - self._base
     root = self._env.task.root_part
-    point = targets.grasp_point(self._env.physics, self._env.task.furniture, root)
+    point = part_geometry.grasp_point(self._env.physics, self._env.task.furniture, root)
     self._move_to(action, b, point)
     there = np.linalg.norm(point - self._cursor(b)[0]) < _GRAB_RANGE
     action[m * _PER_CURSOR + 6] = -1.0 if there else 1.0

@@ -1,5 +1,5 @@
 """How an arm's hand comes down onto a part, closes on it, and lowers what it holds:
-speeds and gates of the scripted arm expert (arm_controller), each measured where it
+speeds and gates of the scripted arm expert (single_arm), each measured where it
 was set."""
 
 # The open fingers go down to a part slowly: at full speed the hand swings sideways by
@@ -11,7 +11,7 @@ SETTLED_SPEED = 0.0005
 # Such a hand (one finger against two) holds a lifted part with its fingers aimed this far
 # (rad) short of their closed limit instead of past it; see arm_motion.hold_command.
 HOLD_SHORT_OF_CLOSED = 0.05
-# A panel held by its top edge (grasp_pose.by_top_edge) hangs from the fingers: it goes
+# A panel held by its top edge (top_down_grasp.by_top_edge) hangs from the fingers: it goes
 # down onto its mate at this fraction of the arm's top speed (at 25 mm a step it swung
 # as the arm stopped), and the fingers close on it only within EDGE_GATE (m): 6 mm off,
 # as for a leg, one finger pushed a 6 mm box wall over in its slot, the hand held it
