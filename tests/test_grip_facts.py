@@ -13,8 +13,8 @@ import pytest
 import ikea_suite
 from ikea_suite import geometry
 from ikea_suite.experts import arm_motion
-from ikea_suite.experts import grasp_motion
 from ikea_suite.experts import single_arm
+from ikea_suite.experts import top_down_grasp
 from ikea_suite.robots import grippers
 from ikea_suite.robots import jaco
 from tests import helpers
@@ -117,7 +117,7 @@ def _hold_test(robot_name, furniture_name, part_name, standing, scale=1.0):
   assert _drive(env, 0, grasp + [0, 0, 0.12], tool_rot, -1.0, 200, tolerance=0.01)
   # Down slowly, as the expert does: a fast descent swings the open fingers sideways
   # by centimetres, onto the part.
-  assert _drive(env, 0, grasp, tool_rot, -1.0, 200, gain=grasp_motion.DESCEND_GAIN)
+  assert _drive(env, 0, grasp, tool_rot, -1.0, 200, gain=top_down_grasp.DESCEND_GAIN)
   action = np.zeros(env.action_spec().shape)
   servo = arm_motion.PoseServo()
   close_time = robot.arms[0].gripper.close_time   # the Jaco's hand takes 1.2 s

@@ -15,7 +15,6 @@ from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.experts import arm_motion
 from ikea_suite.experts import clearance
-from ikea_suite.experts import grasp_motion
 from ikea_suite.experts import mating
 from ikea_suite.experts import next_part
 from ikea_suite.experts import part_geometry
@@ -70,7 +69,7 @@ class ArmAssemblyController:
     self._carry_watch = arm_motion.ProgressWatch(window=80)
     self._uneven = None   # the hand closes one finger against two (_against_pair)
     self._hold_command = arm_motion.hold_command(robot.arms[arm].gripper,
-                                                 grasp_motion.HOLD_SHORT_OF_CLOSED)
+                                                 top_down_grasp.HOLD_SHORT_OF_CLOSED)
     self._turn_over = turn_over.TurnOver(env, arm, self._surface, self._clearance, close_steps)
     self.reset()
 
@@ -186,8 +185,8 @@ class ArmAssemblyController:
       edge = self._grasps.by_top_edge(moving)
       slow = edge and phase == Phase.DESCEND
       poses[:] = self._servo(robot, physics, arm, waypoint, rot,
-                             gain=1.0 if phase == Phase.REACH else grasp_motion.DESCEND_GAIN,
-                             max_speed=grasp_motion.HANGING_SPEED if slow else 1.0)
+                             gain=1.0 if phase == Phase.REACH else top_down_grasp.DESCEND_GAIN,
+                             max_speed=top_down_grasp.HANGING_SPEED if slow else 1.0)
       distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
       settled = self._settled()
       self._stalled += 1
@@ -198,10 +197,10 @@ class ArmAssemblyController:
         if len(self._unreachable) >= len(task.furniture.parts):
           self._unreachable = set()
       elif phase == Phase.REACH and angle < 0.05 and distance < (
-          grasp_motion.EDGE_REACH if edge else 0.02):
+          top_down_grasp.EDGE_REACH if edge else 0.02):
         self.phase, self._stalled = Phase.DESCEND, 0
       elif (phase == Phase.DESCEND and angle < 0.05 and settled and distance < (
-          grasp_motion.EDGE_GATE if edge else 0.006)):
+          top_down_grasp.EDGE_GATE if edge else 0.006)):
         self.phase, self._counter, self._stalled = Phase.CLOSE, 0, 0
         self._grasp, self._hanging = (goal, rot), edge
     elif phase == Phase.CLOSE:
@@ -280,7 +279,7 @@ class ArmAssemblyController:
         return action
       # The last centimetres slowly: at gain 0.6 the arm hunted +-1 cm about the goal.
       poses[:] = self._servo(robot, physics, arm, *goal, gain=0.6 if phase == Phase.ALIGN else 0.3,
-                             max_speed=grasp_motion.HANGING_SPEED if self._hanging else 1.0)
+                             max_speed=top_down_grasp.HANGING_SPEED if self._hanging else 1.0)
       current, rot = part_geometry.part_pose(physics, task.furniture, moving)
       distance = np.linalg.norm(part_pos + offset * side - current)
       angle = np.linalg.norm(geometry.mat_to_axis_angle(part_rot @ rot.T))
@@ -301,7 +300,7 @@ class ArmAssemblyController:
       lowering = self._counter == len(self._put_back_path) - 1
       waypoint = goal if lowering else self._clearance.arc_waypoint(goal)
       poses[:] = self._servo(robot, physics, arm, waypoint, rot, max_turn=0.3,
-                             gain=grasp_motion.DESCEND_GAIN if lowering else 1.0)
+                             gain=top_down_grasp.DESCEND_GAIN if lowering else 1.0)
       distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
       self._stalled += 1
       if distance < (0.01 if lowering else 0.03) and angle < 0.05:
@@ -342,7 +341,7 @@ class ArmAssemblyController:
     tcp, _ = self._robot.tcp_pose(self._env.physics, self._arm)
     last, self._last_tcp = self._last_tcp, tcp
     return (not self._against_pair() or
-            last is not None and np.linalg.norm(tcp - last) < grasp_motion.SETTLED_SPEED)
+            last is not None and np.linalg.norm(tcp - last) < top_down_grasp.SETTLED_SPEED)
 
   def _unwind(self, keep_clear=False):
     self._unwinder.start(self._robot, self._env.physics, self._arm,
