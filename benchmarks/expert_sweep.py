@@ -6,6 +6,7 @@
     python benchmarks/expert_sweep.py --robots sawyer --graspable --num-models 129
     python benchmarks/expert_sweep.py --join sweep_5000.log sweep_5010.log
     python benchmarks/expert_sweep.py --supported --seed-start 31000 --seeds 10
+    python benchmarks/expert_sweep.py --robots panda --models chair_back_ivar --seeds 20 --write
 
 For each robot, one row per model: the scale it runs at (unless --scale, the robot's
 WORK_SCALE, or for furniture too wide for its gripper there the smaller scale at which
@@ -13,6 +14,12 @@ the parts fit: experts/work_scale.py), parts, complete assemblies / seeds, mean
 connections, mean control steps and mean wall-clock seconds per episode.
 Episodes run in parallel processes (--processes). Report figures from
 seeds >= 1000: the experts were developed on seeds below 100.
+
+--write records each (robot, furniture) pair of the sweep (or of the --join logs) in
+the experts' measurements, ikea_suite/experts/supported.json, replacing the pair's
+earlier record: the listing rule there (experts/registry.py: at least 80% complete, and
+for the Baxter both arms) then decides which pairs experts.supported() lists. Measure
+on seeds the experts were never tuned on.
 """
 
 import argparse
@@ -30,8 +37,7 @@ def run_episode(job):
   of one expert episode."""
   robot, furniture, scale, seed, time_limit, arena, control_mode = job
   import ikea_suite
-  from ikea_suite import experts
-  from ikea_suite.experts import bimanual
+  from ikea_suite.experts import registry
   start = time.perf_counter()
   options = {"arena": arena}
   if robot != "cursor":
@@ -39,7 +45,7 @@ def run_episode(job):
   if time_limit is not None:
     options["time_limit"] = time_limit
   env = ikea_suite.load(furniture, robot, seed=seed, scale=scale, **options)
-  expert = experts.make_expert(env)
+  expert = registry.make_expert(env)
   timestep = env.reset()
   expert.reset()
   steps = 0
@@ -47,13 +53,12 @@ def run_episode(job):
     timestep = env.step(expert(timestep))
     steps += 1
   state = env.task.state
-  return {"robot": robot, "control_mode": control_mode, "furniture": furniture, "scale": scale,
-          "seed": seed,
+  return {"robot": robot, "control_mode": control_mode, "arena": arena,
+          "time_limit": time_limit, "furniture": furniture, "scale": scale, "seed": seed,
           "parts": len(env.task.furniture.parts), "connections": len(state.connections),
           "complete": bool(state.complete), "steps": steps,
           "seconds": time.perf_counter() - start,
-          "arms_used": sorted(expert.arms_used if isinstance(expert, bimanual.TwoArmExpert)
-                              else {0})}
+          "arms_used": sorted(expert.arms_used if registry.expert(robot).two_arm else {0})}
 
 
 def default_models(count):
@@ -97,6 +102,35 @@ def print_table(robot, rows):
           f"{np.mean([r['steps'] for r in mine]):6.0f} {np.mean([r['seconds'] for r in mine]):7.1f}")
 
 
+def write_measurements(rows, path=None):
+  """Records each (robot, furniture) pair of `rows` (episode summaries) in the experts'
+  measurements (registry.write; `path` defaults to the package's supported.json) and
+  prints what each pair's record now says."""
+  from ikea_suite.experts import registry
+  # The supported lists promise what load()'s defaults give at the recorded scale.
+  options = {"arena": "floor", "control_mode": "task_space", "time_limit": None}
+  for row in rows:
+    for key, default in options.items():
+      if row.get(key, default) != default:
+        sys.exit(f"--write records sweeps with load()'s defaults only ({key} {default}); "
+                 f"{row['robot']} {row['furniture']} seed {row['seed']} ran with {key} "
+                 f"{row[key]}")
+  pairs = {}
+  for row in rows:
+    pairs.setdefault((row["robot"], row["furniture"]), []).append(row)
+  measured = [registry.summarize(robot, furniture, episodes)
+              for (robot, furniture), episodes in pairs.items()
+              if not registry.expert(robot).every_model]
+  registry.write(measured, *([] if path is None else [path]))
+  for m in measured:
+    arms = "" if m.both_arms is None else f", both arms in {m.both_arms}"
+    print(f"wrote {m.robot} {m.furniture}: {m.completed}/{m.episodes} complete{arms} at "
+          f"scale {m.scale:g}, seeds {m.seeds}: {'listed' if m.supported else 'not listed'}")
+  skipped = sorted({r for r, _ in pairs if registry.expert(r).every_model})
+  if skipped:
+    print(f"not written: {', '.join(skipped)} (listed for every catalog model)")
+
+
 def main(argv=None):
   parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
   parser.add_argument("--robots", nargs="+", default=["sawyer", "panda", "baxter", "jaco"])
@@ -122,13 +156,19 @@ def main(argv=None):
   parser.add_argument("--join", nargs="+", default=None, metavar="LOG",
                       help="run nothing: print the tables of the episodes these sweeps' "
                            "output logs hold (one JSON line each), e.g. two seed ranges")
+  parser.add_argument("--write", nargs="?", const="", default=None, metavar="JSON",
+                      help="record each pair's completions in the experts' measurements "
+                           "(default file: ikea_suite/experts/supported.json)")
   args = parser.parse_args(argv)
+  write_to = None if not args.write else args.write
   if args.join:
     rows = [json.loads(line) for log in args.join for line in open(log) if line.startswith("{")]
     for robot in dict.fromkeys(r["robot"] for r in rows):
       mine = sorted((r for r in rows if r["robot"] == robot), key=lambda r: r["seed"])
       print_table(robot, mine)
       print(f"total {sum(r['complete'] for r in mine)}/{len(mine)}")
+    if args.write is not None:
+      write_measurements(rows, write_to)
     return 0
   from ikea_suite import experts
   from ikea_suite.experts import work_scale
@@ -158,6 +198,8 @@ def main(argv=None):
   if args.json:
     with open(args.json, "w") as f:
       json.dump(rows, f, indent=1)
+  if args.write is not None:
+    write_measurements(rows, write_to)
   return 0
 
 

@@ -36,7 +36,8 @@ __all__ = [   # the public API; ALL and EXPERT_SUPPORTED are computed on first u
 def __getattr__(name):
   # ALL reads the model directory, so it is computed on first use, not at import.
   # ALL lists every (furniture, robot) pair that loads; EXPERT_SUPPORTED the subset a
-  # scripted expert assembles (measured, ikea_suite/experts/supported.py).
+  # scripted expert assembles (the experts' registry, measured in
+  # ikea_suite/experts/supported.json).
   if name == "ALL":
     return tuple(all_environments())
   if name == "EXPERT_SUPPORTED":   # (furniture, robot) pairs a scripted expert assembles

@@ -15,20 +15,28 @@ import numpy as np
 
 import ikea_suite  # sets MUJOCO_GL=egl on a display-less Linux machine
 from ikea_suite import doctor
-from ikea_suite import experts
-from ikea_suite.experts import cursor_oracle
+from ikea_suite.experts import registry
 from ikea_suite.props import catalog
 
 POLICIES = ("oracle", "expert", "random")
+# --policy oracle: the expert of the robots whose expert is the Cursor oracle.
+ORACLE_KIND = "cursor_oracle"
 
 
 def make_policy(name, env, seed):
-  if name == "expert":   # the scripted expert of any robot (ikea_suite.experts)
-    return experts.make_expert(env)
+  """The policy `name` (POLICIES) for `env`: the robot's scripted expert (the experts'
+  registry), the Cursor oracle, or uniform random actions from `seed`."""
+  if name == "expert":
+    return registry.make_expert(env)
   if name == "oracle":
-    if env.task.robot.__class__.__name__ != "Cursor":
-      raise ikea_suite.IkeaSuiteError("the oracle policy drives the cursor robot; use --policy random")
-    return cursor_oracle.CursorOracle(env)
+    robot = env.task.robot.mjcf_model.model
+    if robot not in registry.EXPERTS or registry.EXPERTS[robot].kind != ORACLE_KIND:
+      oracles = [r for r, e in registry.EXPERTS.items() if e.kind == ORACLE_KIND]
+      instead = "expert" if robot in registry.EXPERTS else "random"
+      raise ikea_suite.IkeaSuiteError(
+          f"--policy oracle drives the {' or '.join(oracles)} robot, not the {robot}; "
+          f"use --policy {instead}")
+    return registry.make_expert(env)
   rng = np.random.default_rng(seed)
   spec = env.action_spec()
   return lambda timestep: rng.uniform(spec.minimum, spec.maximum, spec.shape)

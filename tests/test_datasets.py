@@ -16,6 +16,7 @@ from ikea_suite.datasets import lerobot
 from ikea_suite.datasets import mj_state
 from ikea_suite.datasets import recorder
 from ikea_suite.datasets import replay
+from ikea_suite.experts import registry
 
 FURNITURE = "table_four_leg_lack"
 
@@ -153,7 +154,7 @@ def test_collect_on_a_local_ray_instance():
 
 
 def test_every_robot_has_an_expert_and_arms_need_task_space():
-  assert set(experts.EXPERTS) == set(ikea_suite.robot_names())
+  assert set(registry.ROBOTS) == set(ikea_suite.robot_names())
   assert experts.make(ikea_suite.load(FURNITURE, "baxter")).name == "two_arm"
   with pytest.raises(ikea_suite.IkeaSuiteError, match="task_space"):
     experts.make(ikea_suite.load(FURNITURE, "jaco", control_mode="joint_position"))

@@ -1,4 +1,10 @@
-"""ikea_suite.experts: one entry point for every robot's scripted expert."""
+"""ikea_suite.experts: one entry point for every robot's scripted expert, and its registry."""
+
+import dataclasses
+import importlib.util
+import json
+import pathlib
+import shutil
 
 import numpy as np
 import pytest
@@ -8,6 +14,7 @@ from ikea_suite import experts
 from ikea_suite.experts import bimanual
 from ikea_suite.experts import cursor_oracle
 from ikea_suite.experts import part_geometry
+from ikea_suite.experts import registry
 from ikea_suite.experts import single_arm
 from tests import helpers
 
@@ -133,3 +140,98 @@ def test_rollout_cli_runs_the_expert(capsys):
   assert cli.main(["--policy", "expert", "--robot", "sawyer", "--scale", "0.5",
                    "--time-limit", "1"]) == 0
   assert "expert policy" in capsys.readouterr().out
+
+
+def test_supported_lists_follow_the_listing_rule_over_the_measurements():
+  for robot in ("sawyer", "panda", "baxter", "jaco"):
+    measured = experts.measurements(robot)
+    assert measured and all(m.robot == robot for m in measured)
+    for m in measured:
+      listed = m.completed >= 0.8 * m.episodes and (
+          robot != "baxter" or m.both_arms is not None and m.both_arms >= 0.8 * m.completed)
+      assert m.supported == listed == (m.furniture in experts.supported(robot)), m
+      if listed:
+        assert experts.supported_scale(robot, m.furniture) == m.scale
+    assert set(experts.supported(robot)) <= {m.furniture for m in measured}
+  # At the threshold: 16 of 20 is listed, 15 of 20 is not.
+  assert experts.measurement("sawyer", "chair_back_kids_birch").supported
+  kids = experts.measurement("sawyer", "chair_back_kids_birch")
+  assert (kids.completed, kids.episodes, kids.seeds) == (16, 20, "37000-37019")
+  pine = experts.measurement("panda", "chair_back_pine_high")
+  assert (pine.completed, pine.episodes, pine.supported) == (15, 20, False)
+
+
+def test_measurement_of_the_cursor_and_of_unmeasured_pairs():
+  m = experts.measurement("cursor", "table_four_leg_lack")
+  assert (m.scale, m.completed, m.episodes, m.supported) == (1.0, None, None, True)
+  assert experts.measurements("cursor") == ()
+  with pytest.raises(ikea_suite.UnknownNameError, match="furniture measured for the jaco expert"):
+    experts.measurement("jaco", "bed_slatted_junior_pine")
+  with pytest.raises(ikea_suite.UnknownNameError, match="robot with an expert"):
+    experts.measurement("r2d2", "table_four_leg_lack")
+  with pytest.raises(dataclasses.FrozenInstanceError):
+    m.scale = 0.5
+
+
+def test_the_measurements_file_is_in_the_writers_own_format():
+  text = registry.DATA_PATH.read_text(encoding="utf-8")
+  assert registry.dumps(json.loads(text)) == text
+
+
+def _sweep_rows(robot, furniture, completes, arms=(0,), seed=50000):
+  return [{"robot": robot, "control_mode": "task_space", "arena": "floor", "time_limit": None,
+           "furniture": furniture, "scale": 0.5, "seed": seed + k, "parts": 5,
+           "connections": 4 if done else 2, "complete": done, "steps": 100, "seconds": 1.0,
+           "arms_used": list(arms)} for k, done in enumerate(completes)]
+
+
+def test_expert_sweep_write_records_a_pair_and_the_rule_lists_it(tmp_path, capsys, monkeypatch):
+  spec = importlib.util.spec_from_file_location(
+      "expert_sweep", pathlib.Path(__file__).parents[1] / "benchmarks" / "expert_sweep.py")
+  sweep = importlib.util.module_from_spec(spec)
+  spec.loader.exec_module(sweep)
+  data = tmp_path / "supported.json"
+  shutil.copy(registry.DATA_PATH, data)
+  monkeypatch.setattr(registry, "DATA_PATH", data)
+  registry._table.cache_clear()
+  before = experts.measurements("panda")
+  log = tmp_path / "sweep.log"
+  rows = (_sweep_rows("panda", "chair_back_pine_high", [True] * 17 + [False] * 3)
+          + _sweep_rows("baxter", "table_four_leg_lack", [True] * 10, arms=(0,))
+          + _sweep_rows("cursor", "table_four_leg_lack", [True]))
+  log.write_text("".join(json.dumps(r) + "\n" for r in rows))
+  try:
+    assert sweep.main(["--join", str(log), "--write", str(data)]) == 0
+    out = capsys.readouterr().out
+    assert "wrote panda chair_back_pine_high: 17/20 complete at scale 0.5" in out
+    assert "not written: cursor" in out
+    pine = experts.measurement("panda", "chair_back_pine_high")
+    assert (pine.completed, pine.episodes, pine.seeds, pine.supported) == (
+        17, 20, "50000-50019", True)
+    assert "chair_back_pine_high" in experts.supported("panda")
+    # Every complete Baxter episode used one arm only: measured, but no longer listed.
+    lack = experts.measurement("baxter", "table_four_leg_lack")
+    assert (lack.completed, lack.both_arms, lack.supported) == (10, 0, False)
+    assert "table_four_leg_lack" not in experts.supported("baxter")
+    # The other pairs keep their records.
+    after = {m.furniture: m for m in experts.measurements("panda")}
+    assert all(after[m.furniture] == m for m in before if m.furniture != "chair_back_pine_high")
+    assert registry.dumps(json.loads(data.read_text())) == data.read_text()
+    # A sweep with other options than load()'s defaults is not recorded.
+    log.write_text(json.dumps({**rows[0], "arena": "work_table"}) + "\n")
+    with pytest.raises(SystemExit, match="defaults only"):
+      sweep.main(["--join", str(log), "--write", str(data)])
+  finally:
+    registry._table.cache_clear()
+
+
+def test_seed_ranges():
+  assert registry.seed_ranges([37002, 37000, 37001, 38000, 38001, 40000]) == (
+      "37000-37002, 38000-38001, 40000")
+
+
+def test_rollout_cli_oracle_policy_for_an_arm_suggests_its_expert(capsys):
+  from ikea_suite import cli
+  assert cli.main(["--policy", "oracle", "--robot", "sawyer", "--time-limit", "1"]) == 2
+  err = capsys.readouterr().err
+  assert "--policy oracle drives the cursor robot, not the sawyer; use --policy expert" in err

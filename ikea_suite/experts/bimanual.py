@@ -47,6 +47,11 @@ class TwoArmExpert:
     return self._arms[self._active].phase
 
   @property
+  def subtask(self) -> tuple[str, int | None]:
+    """The active arm's (phase name, part being brought in; None between parts)."""
+    return self._arms[self._active].subtask
+
+  @property
   def job(self) -> tuple[int, int] | None:
     """The active arm's (connector pair, moving part), or None between parts."""
     return self._arms[self._active].job

@@ -11,7 +11,6 @@ import enum
 
 import numpy as np
 
-from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.experts import arm_motion
 from ikea_suite.experts import clearance
@@ -21,7 +20,6 @@ from ikea_suite.experts import part_geometry
 from ikea_suite.experts import sensing
 from ikea_suite.experts import top_down_grasp
 from ikea_suite.experts import turn_over
-from ikea_suite.robots import control_modes
 
 # Rad of any joint from home beyond which the arm goes home in joint space between parts.
 UNWIND_FROM = 1.0
@@ -42,15 +40,12 @@ class Phase(enum.Enum):
 
 
 class ArmAssemblyController:
-  """Call with a TimeStep (or nothing); returns the action for `env`."""
+  """Call with a TimeStep (or nothing); returns the action for `env`, whose arm moves in a
+  task-space mode (make_expert checks: registry.Expert.control_modes)."""
 
   def __init__(self, env, arm=0, hover=0.12, lift=0.12, carry=0.5, approach=0.08, tolerance=0.9,
                close_steps=8, release_steps=6, stall_steps=150, insert_steps=40):
     robot = env.task.robot
-    if robot.control_mode not in control_modes.DELTA_TARGETS:
-      raise errors.IkeaSuiteError(
-          f"ArmAssemblyController drives an arm by task-space moves, in control_mode "
-          f"{' or '.join(map(repr, control_modes.DELTA_TARGETS))}, got {robot.control_mode!r}")
     self._env, self._robot, self._arm = env, robot, arm
     self._hover, self._lift, self._approach = hover, lift, approach
     self._tolerance = tolerance
@@ -97,6 +92,11 @@ class ArmAssemblyController:
   def job(self):
     """(connector pair, moving part) being worked on, or None."""
     return self._job
+
+  @property
+  def subtask(self):
+    """(phase name, part being brought in; None between parts)."""
+    return self.phase.value, None if self._job is None else self._job[1]
 
   @property
   def job_just_chosen(self):
