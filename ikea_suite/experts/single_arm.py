@@ -7,6 +7,7 @@ issues connect, through the same action vector a learning agent sends
 off, and moves on to the next pair until the furniture is whole.
 """
 
+import dataclasses
 import enum
 
 import numpy as np
@@ -39,9 +40,42 @@ class Phase(enum.Enum):
   TURN_OVER = "turn_over"   # roll the assembly onto its other face (turn_over.TurnOver)
 
 
+# Phases in which the fingers close on, or hold, a part.
+_HOLDING = (Phase.CLOSE, Phase.LIFT, Phase.ALIGN, Phase.INSERT, Phase.PUT_BACK)
+# Phases that go on with no part chosen.
+_WITHOUT_A_PART = (Phase.RELEASE, Phase.RETREAT, Phase.UNWIND, Phase.TURN_OVER)
+
+
+@dataclasses.dataclass(frozen=True)
+class _Command:
+  """One control step's action, as the phase methods fill in this arm's part of it."""
+  action: np.ndarray   # the whole action vector (connect is its last entry)
+  tool: np.ndarray     # this arm's six task-space entries, a view into `action`
+  grip: int            # index of this arm's gripper entry in `action`
+
+
 class ArmAssemblyController:
   """Call with a TimeStep (or nothing); returns the action for `env`, whose arm moves in a
-  task-space mode (make_expert checks: registry.Expert.control_modes)."""
+  task-space mode (make_expert checks: registry.Expert.control_modes).
+
+  Each control step first notes a new connection (on to RELEASE) and chooses the next
+  part when it needs one; then the present phase's method (_PHASES: one small method per
+  Phase) fills in the arm's six task-space entries and moves the phase on. Everything
+  an episode changes is set in reset().
+
+  Args:
+    env: the environment.
+    arm: the arm's index (Baxter: 0 right, 1 left).
+    hover: height (m) over the grasp point the reach makes for before the descent.
+    lift: height (m) the part is lifted by after the grasp.
+    carry: carry height (m) over the surface the parts lie on.
+    approach: distance (m) short of the mating pose from which the part goes in.
+    tolerance: fraction of the task's thresholds the pair must reach before connecting.
+    close_steps: control steps the fingers take to close (more for a slower hand).
+    release_steps: control steps the fingers take to open.
+    stall_steps: control steps a reach may take before the part is given up.
+    insert_steps: control steps an insertion may take before the mate is given up.
+  """
 
   def __init__(self, env, arm=0, hover=0.12, lift=0.12, carry=0.5, approach=0.08, tolerance=0.9,
                close_steps=8, release_steps=6, stall_steps=150, insert_steps=40):
@@ -69,9 +103,13 @@ class ArmAssemblyController:
     self.reset()
 
   def reset(self):
+    """Forgets the episode: call after env.reset()."""
     self._servo.reset()
     self._clearance.reset()
     self._turn_over.reset()
+    self._grasps.new_reach()
+    self._carry_watch.reset()
+    self._carry_height.reset()
     self.phase = Phase.REACH
     self._counter = 0
     self._connections = 0
@@ -87,6 +125,9 @@ class ArmAssemblyController:
     self._stalled = 0
     self._inserting = 0   # control steps in the present INSERT
     self._last_tcp = None
+    self._carrying = False   # the held part is on its way over its mate at carry height
+    self._root_at_plan = None   # where the root part was when the present plan was made
+    self._put_back_path = []   # tool positions _put_back lays, the last one down
 
   @property
   def job(self):
@@ -141,198 +182,304 @@ class ArmAssemblyController:
   # -- the policy ------------------------------------------------------------------------
 
   def __call__(self, timestep=None):
-    env, task = self._env, self._env.task
-    physics, robot, arm = env.physics, self._robot, self._arm
+    """The action for this control step (privileged state; `timestep` may be None)."""
+    env, robot = self._env, self._robot
     action = np.zeros(env.action_spec().shape)
-    base = arm * robot.actions_per_arm
-    poses, grip = action[base:base + 6], base + 6
-    if len(task.state.connections) != self._connections:
-      self._connections = len(task.state.connections)
-      self.phase, self._counter, self._stalled = Phase.RELEASE, 0, 0
-      self._unreachable, self._failed_plans, self._stalled_grasps = set(), set(), set()
-      self._carry_stalls = {}
+    if len(env.task.state.connections) != self._connections:
+      self._after_connection()
     if (self._job is None and self.phase != Phase.TURN_OVER
         or self.phase == Phase.REACH and self._counter == 0):
-      self._job = self._choose_job()
-      if self._job is None and self._unreachable and not task.state.complete:
-        self._unreachable = set()   # every part skipped once: try them all again
-        self._job = self._choose_job()
-      self._counter, self._stalled = 1, 0
-      self._grasps.new_reach()
-      if self._job is not None:
-        self._grasp_sign = mating.choose_grasp_sign(
-            env, arm, self._job[1], self._grasp_pose, self._hover, self._approach,
-            self._failed_plans, self._stalled_grasps, self._carry_height.nominal)
-      elif self.phase != Phase.UNWIND and turn_over.waiting(
-          task, physics, self._surface) and self._turn_over.start(
-          self.closing_local()):
-        self.phase = Phase.TURN_OVER
-    if self._job is None and self.phase not in (Phase.RELEASE, Phase.RETREAT, Phase.UNWIND,
-                                                Phase.TURN_OVER):
+      self._choose_work()
+    if self._job is None and self.phase not in _WITHOUT_A_PART:
       return action
-    pair, moving = self._job if self._job else (None, None)
-    phase = self.phase
-    action[grip] = 1.0 if phase in (Phase.CLOSE, Phase.LIFT, Phase.ALIGN, Phase.INSERT,
-                                    Phase.PUT_BACK) else -1.0
-    # (A panel held by its edge is squeezed fully: 0.05 rad short opens them off a 6 mm wall.)
-    if phase != Phase.CLOSE and action[grip] > 0.0 and self._against_pair() and not self._hanging:
-      action[grip] = self._hold_command
-    if phase in (Phase.REACH, Phase.DESCEND):
-      point, rot = self._grasp_pose(moving)
-      goal = point + [0.0, 0.0, self._hover] if phase == Phase.REACH else point
-      route = self._clearance
-      waypoint = route.arc_waypoint(route.over_assembly(goal)) if phase == Phase.REACH else goal
-      edge = self._grasps.by_top_edge(moving)
-      slow = edge and phase == Phase.DESCEND
-      poses[:] = self._servo(robot, physics, arm, waypoint, rot,
-                             gain=1.0 if phase == Phase.REACH else top_down_grasp.DESCEND_GAIN,
-                             max_speed=top_down_grasp.HANGING_SPEED if slow else 1.0)
-      distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
-      settled = self._settled()
-      self._stalled += 1
-      if self._stalled > self._stall_steps:   # cannot get there: try another part
-        self._unreachable.add(moving)
-        self._stalled_grasps.add((moving, self._grasp_sign))
-        self._unwind()   # home before the next part
-        if len(self._unreachable) >= len(task.furniture.parts):
-          self._unreachable = set()
-      elif phase == Phase.REACH and angle < 0.05 and distance < (
-          top_down_grasp.EDGE_REACH if edge else 0.02):
-        self.phase, self._stalled = Phase.DESCEND, 0
-      elif (phase == Phase.DESCEND and angle < 0.05 and settled and distance < (
-          top_down_grasp.EDGE_GATE if edge else 0.006)):
-        self.phase, self._counter, self._stalled = Phase.CLOSE, 0, 0
-        self._grasp, self._hanging = (goal, rot), edge
-    elif phase == Phase.CLOSE:
-      poses[:] = self._servo(robot, physics, arm, *self._grasp)
-      self._counter += 1
-      if self._counter >= self._close_steps:
-        self.phase = Phase.LIFT
-    elif phase == Phase.LIFT:
-      # Only clear of the floor: the carry rises further on its way in, since straight up
-      # is out of reach for a part at the edge of the work area.
-      goal = self._grasp[0] + [0.0, 0.0, self._lift]
-      poses[:] = self._servo(robot, physics, arm, goal, self._grasp[1])
-      self._counter += 1
-      if (arm_motion.pose_error(robot, physics, arm, goal, self._grasp[1])[0] < 0.03
-          or self._counter > self._close_steps + 40):   # as high as it goes: carry on
-        self.phase = Phase.ALIGN
-    elif phase in (Phase.ALIGN, Phase.INSERT):
-      if not self._holding(moving):   # dropped, or never held: start over with the other grasp
-        # (Baxter, tuning seed 3: a leg slipped from the same grasp for the whole episode),
-        # and with another part once both grasps have failed.
-        self._stalled_grasps.add((moving, self._grasp_sign))
-        if (moving, -self._grasp_sign) in self._stalled_grasps:
-          self._unreachable.add(moving)
-        self._plan = None
-        self._to_next_reach()
-        return action
-      if self._plan is None:
-        self._plan, self._carrying = mating.plan_mating(
-            env, arm, moving, self._approach, self._failed_plans,
-            carry_top=self._carry_height.nominal), True
-        self._carry_watch.reset()
-        self._carry_height.reset()
-        if self._plan is not None:
-          self._plan = self._plan[1:]
-          self._root_at_plan = part_geometry.part_pose(physics, task.furniture, task.root_part)[0]
-        else:
-          self._no_mate_left(moving)
-          return action
-      pair, twist = self._plan
-      self._stalled += 1
-      # A mate out of reach stalls the carry; an insertion that has not attached within
-      # `insert_steps` (they take 8-12 steps), or a held part that has moved the root by
-      # 3 cm on its way down, pushes the light, scaled assembly out of reach (checked only
-      # after the carry: aborting carries dropped legs of tall tables on the assembly).
-      # Lift clear and plan another mate or twist.
-      self._inserting = self._inserting + 1 if phase == Phase.INSERT else 0
-      pushed = not self._carrying and np.linalg.norm(part_geometry.part_pose(
-          physics, task.furniture, task.root_part)[0] - self._root_at_plan) > 0.03
-      if self._stalled > 2 * self._stall_steps or self._inserting > self._insert_steps or pushed:
-        self._failed_plans.add((pair, twist))
-        self._plan, self._stalled, self._inserting = None, 0, 0
-        self.phase = Phase.ALIGN
-        return action
-      part_pos, part_rot, side = mating.mate_pose(env, pair, moving, twist)
-      # Inserting, stop 0.4 of the connect distance short (4 mm at scale 0.5), which shrinks
-      # with the furniture: a fixed 4 mm lay outside scale 0.22's 0.9 x 4.4 mm tolerance.
-      offset = self._approach if phase == Phase.ALIGN else 0.4 * task.thresholds.distance
-      goal = mating.tool_goal_for_part(env, arm, moving, part_pos + offset * side, part_rot)
-      if self._carrying:   # first over the goal at carry height, then down to it
-        high = self._carry_height.waypoint(goal, moving, part_pos + offset * side, part_rot,
-                                           self._hanging)
-        waypoint = self._clearance.rise_first(self._clearance.arc_waypoint(high), moving,
-                                              high[2])
-        poses[:] = self._servo(robot, physics, arm, waypoint, goal[1],
-                               max_turn=arm_motion.CARRY_TURN)
-        distance, angle = arm_motion.pose_error(robot, physics, arm, high, goal[1])
-        self._carrying = not (distance < 0.03 and angle < 0.05)
-        if not self._carrying:
-          self._carry_watch.reset()   # on to the goal below
-        elif self._carry_watch.stalled(distance, angle):   # out of reach up there?
-          pinned = arm_motion.pinned(robot, physics, arm)
-          if self._carry_height.lower(goal, pinned):
-            self._carry_watch.reset()
-          elif pinned:
-            self._carry_stalled(moving, pair, twist)
-        return action
-      # The last centimetres slowly: at gain 0.6 the arm hunted +-1 cm about the goal.
-      poses[:] = self._servo(robot, physics, arm, *goal, gain=0.6 if phase == Phase.ALIGN else 0.3,
-                             max_speed=top_down_grasp.HANGING_SPEED if self._hanging else 1.0)
-      current, rot = part_geometry.part_pose(physics, task.furniture, moving)
-      distance = np.linalg.norm(part_pos + offset * side - current)
-      angle = np.linalg.norm(geometry.mat_to_axis_angle(part_rot @ rot.T))
-      # A hanging panel goes down between standing walls with 3 mm to spare (half scale).
-      if phase == Phase.ALIGN and distance < (0.003 if self._hanging else 0.01) and angle < 0.03:
-        self.phase = Phase.INSERT
-      elif phase == Phase.ALIGN and self._carry_watch.stalled(distance, angle) and (
-          arm_motion.pinned(robot, physics, arm)):
-        self._carry_stalled(moving, pair, twist)
-      elif phase == Phase.INSERT and sensing.attachable(task, physics, pair, self._tolerance):
-        self._plan = None
-        action[-1] = 1.0
-    elif phase == Phase.PUT_BACK:
-      if not self._holding(moving):   # along the path _put_back laid
-        self._to_next_reach()
-        return action
-      goal, rot = self._put_back_path[self._counter], self._grasp[1]
-      lowering = self._counter == len(self._put_back_path) - 1
-      waypoint = goal if lowering else self._clearance.arc_waypoint(goal)
-      poses[:] = self._servo(robot, physics, arm, waypoint, rot, max_turn=0.3,
-                             gain=top_down_grasp.DESCEND_GAIN if lowering else 1.0)
-      distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
-      self._stalled += 1
-      if distance < (0.01 if lowering else 0.03) and angle < 0.05:
-        self._counter += 1
-      if self._counter == len(self._put_back_path) or self._stalled > 2 * self._stall_steps:
-        self.phase, self._counter = Phase.RELEASE, 0
-    elif phase == Phase.RELEASE:
-      self._counter += 1
-      if self._counter >= self._release_steps:
-        self.phase, self._counter = Phase.RETREAT, 0
-        pos, rot = robot.tcp_pose(physics, arm)
-        # Back off, and up clear of the assembly: a hand left low beside a standing leg
-        # strikes it when it turns down for the next part (Panda, seeds 0-4).
-        back = pos - 0.1 * rot[:, 2] + [0.0, 0.0, 0.1]
-        back[2] = max(back[2], self._clearance.safe_height())
-        self._grasp = (back, rot)
-    elif phase == Phase.RETREAT:
-      route = self._clearance
-      poses[:] = self._servo(robot, physics, arm, route.arc_waypoint(route.over_assembly(
-          self._grasp[0])), self._grasp[1])
-      self._counter += 1
-      if arm_motion.pose_error(robot, physics, arm, *self._grasp)[0] < 0.03 or self._counter > 40:
-        self._to_next_reach()
-    elif phase == Phase.TURN_OVER:
-      poses[:], action[grip] = self._turn_over(self._servo), self._turn_over.gripper()
-      if self._turn_over.step == turn_over.Step.DONE:
-        self._to_next_reach(keep_clear=True)
-    elif phase == Phase.UNWIND:
-      poses[:] = self._unwinder(robot, physics, arm)
-      if self._unwinder.done:
-        self.phase, self._counter, self._stalled = Phase.REACH, 0, 0
+    base = self._arm * robot.actions_per_arm
+    command = _Command(action, action[base:base + 6], base + 6)
+    action[command.grip] = self._gripper_command()
+    self._PHASES[self.phase](self, command, None if self._job is None else self._job[1])
     return action
+
+  def _after_connection(self):
+    """A connection was made (by this arm or another): let go, and forget what stalled."""
+    self._connections = len(self._env.task.state.connections)
+    self.phase, self._counter, self._stalled = Phase.RELEASE, 0, 0
+    self._unreachable, self._failed_plans, self._stalled_grasps = set(), set(), set()
+    self._carry_stalls = {}
+
+  def _choose_work(self):
+    """The next part and its grasp; with no part left to bring, a turn-over if mates wait
+    for one."""
+    env, task = self._env, self._env.task
+    self._job = self._choose_job()
+    if self._job is None and self._unreachable and not task.state.complete:
+      self._unreachable = set()   # every part skipped once: try them all again
+      self._job = self._choose_job()
+    self._counter, self._stalled = 1, 0
+    self._grasps.new_reach()
+    if self._job is not None:
+      self._grasp_sign = mating.choose_grasp_sign(
+          env, self._arm, self._job[1], self._grasp_pose, self._hover, self._approach,
+          self._failed_plans, self._stalled_grasps, self._carry_height.nominal)
+    elif self.phase != Phase.UNWIND and turn_over.waiting(
+        task, env.physics, self._surface) and self._turn_over.start(self.closing_local()):
+      self.phase = Phase.TURN_OVER
+
+  def _gripper_command(self):
+    """Closed while the hand holds a part, else open; a hand that closes one finger against
+    two holds short of its closed limit (arm_motion.hold_command), but a panel held by its
+    edge is squeezed fully: 0.05 rad short opens the fingers off a 6 mm wall."""
+    if self.phase not in _HOLDING:
+      return -1.0
+    if self.phase != Phase.CLOSE and self._against_pair() and not self._hanging:
+      return self._hold_command
+    return 1.0
+
+  # -- the phases: each fills in this arm's part of the action and moves the phase on ----
+
+  def _on_reach(self, command, moving):
+    """Open, to `hover` over the grasp point, over the assembly and round the base."""
+    point, rot = self._grasp_pose(moving)
+    goal = point + [0.0, 0.0, self._hover]
+    route = self._clearance
+    edge = self._grasps.by_top_edge(moving)
+    command.tool[:] = self._servo(self._robot, self._env.physics, self._arm,
+                                  route.arc_waypoint(route.over_assembly(goal)), rot)
+    distance, angle = arm_motion.pose_error(self._robot, self._env.physics, self._arm, goal, rot)
+    self._settled()   # the hand's last position, for the descent's test
+    if self._reach_stalled(moving):
+      return
+    if angle < 0.05 and distance < (top_down_grasp.EDGE_REACH if edge else 0.02):
+      self.phase, self._stalled = Phase.DESCEND, 0
+
+  def _on_descend(self, command, moving):
+    """Straight down to the grasp point, slowly; close once there and at rest."""
+    goal, rot = self._grasp_pose(moving)
+    edge = self._grasps.by_top_edge(moving)
+    command.tool[:] = self._servo(
+        self._robot, self._env.physics, self._arm, goal, rot, gain=top_down_grasp.DESCEND_GAIN,
+        max_speed=top_down_grasp.HANGING_SPEED if edge else 1.0)
+    distance, angle = arm_motion.pose_error(self._robot, self._env.physics, self._arm, goal, rot)
+    settled = self._settled()
+    if self._reach_stalled(moving):
+      return
+    if angle < 0.05 and settled and distance < (
+        top_down_grasp.EDGE_GATE if edge else 0.006):
+      self.phase, self._counter, self._stalled = Phase.CLOSE, 0, 0
+      self._grasp, self._hanging = (goal, rot), edge
+
+  def _reach_stalled(self, moving):
+    """Counts a step of the reach or descent; past `stall_steps` the arm cannot get there:
+    home, and another part (True)."""
+    self._stalled += 1
+    if self._stalled <= self._stall_steps:
+      return False
+    self._unreachable.add(moving)
+    self._stalled_grasps.add((moving, self._grasp_sign))
+    self._unwind()   # home before the next part
+    if len(self._unreachable) >= len(self._env.task.furniture.parts):
+      self._unreachable = set()
+    return True
+
+  def _on_close(self, command, moving):
+    """Squeeze for `close_steps`, the tool held at the grasp."""
+    command.tool[:] = self._servo(self._robot, self._env.physics, self._arm, *self._grasp)
+    self._counter += 1
+    if self._counter >= self._close_steps:
+      self.phase = Phase.LIFT
+
+  def _on_lift(self, command, moving):
+    """Up by `lift`, only clear of the floor: the carry rises further on its way in, since
+    straight up is out of reach for a part at the edge of the work area."""
+    robot, physics, arm = self._robot, self._env.physics, self._arm
+    goal = self._grasp[0] + [0.0, 0.0, self._lift]
+    command.tool[:] = self._servo(robot, physics, arm, goal, self._grasp[1])
+    self._counter += 1
+    if (arm_motion.pose_error(robot, physics, arm, goal, self._grasp[1])[0] < 0.03
+        or self._counter > self._close_steps + 40):   # as high as it goes: carry on
+      self.phase = Phase.ALIGN
+
+  def _on_align(self, command, moving):
+    """Carry the part over its mate at carry height, then down to `approach` short of it,
+    turned to its mating pose; a carry stalled with a joint at its limit replans."""
+    plan = self._held_plan(moving)
+    if plan is None:
+      return
+    pair, twist = plan
+    part_pos, part_rot, goal = self._mate_goal(moving, pair, twist, self._approach)
+    if self._carrying:
+      self._carry(command, moving, pair, twist, part_pos, part_rot, goal)
+      return
+    # The last centimetres slowly: at gain 0.6 the arm hunted +-1 cm about the goal.
+    distance, angle = self._servo_held(command, moving, part_pos, part_rot, goal, gain=0.6)
+    # A hanging panel goes down between standing walls with 3 mm to spare (half scale).
+    if distance < (0.003 if self._hanging else 0.01) and angle < 0.03:
+      self.phase = Phase.INSERT
+    elif self._carry_watch.stalled(distance, angle) and (
+        arm_motion.pinned(self._robot, self._env.physics, self._arm)):
+      self._carry_stalled(moving, pair, twist)
+
+  def _on_insert(self, command, moving):
+    """Close the last gap and connect once the pair is well aligned. The part stops 0.4 of
+    the connect distance short (4 mm at scale 0.5), which shrinks with the furniture: a
+    fixed 4 mm lay outside scale 0.22's 0.9 x 4.4 mm tolerance."""
+    plan = self._held_plan(moving)
+    if plan is None:
+      return
+    pair, twist = plan
+    task = self._env.task
+    part_pos, part_rot, goal = self._mate_goal(moving, pair, twist,
+                                               0.4 * task.thresholds.distance)
+    if self._carrying:
+      self._carry(command, moving, pair, twist, part_pos, part_rot, goal)
+      return
+    self._servo_held(command, moving, part_pos, part_rot, goal, gain=0.3)
+    if sensing.attachable(task, self._env.physics, pair, self._tolerance):
+      self._plan = None
+      command.action[-1] = 1.0
+
+  def _held_plan(self, moving):
+    """The (pair, twist) the held part is brought to, planned afresh when there is none;
+    None (the phase moved on) when the part was dropped, has no mate left, or the plan
+    failed.
+
+    A mate out of reach stalls the carry; an insertion that has not attached within
+    `insert_steps` (they take 8-12 steps), or a held part that has moved the root by 3 cm
+    on its way down, pushes the light, scaled assembly out of reach (checked only after
+    the carry: aborting carries dropped legs of tall tables on the assembly). The arm then
+    lifts clear and plans another mate or twist.
+    """
+    env, task = self._env, self._env.task
+    if not self._holding(moving):
+      # Dropped, or never held: start over with the other grasp (a leg slipped from the
+      # same grasp for a whole Baxter episode), and with another part once both failed.
+      self._stalled_grasps.add((moving, self._grasp_sign))
+      if (moving, -self._grasp_sign) in self._stalled_grasps:
+        self._unreachable.add(moving)
+      self._plan = None
+      self._to_next_reach()
+      return None
+    if self._plan is None:
+      self._plan, self._carrying = mating.plan_mating(
+          env, self._arm, moving, self._approach, self._failed_plans,
+          carry_top=self._carry_height.nominal), True
+      self._carry_watch.reset()
+      self._carry_height.reset()
+      if self._plan is None:
+        self._no_mate_left(moving)
+        return None
+      self._plan = self._plan[1:]
+      self._root_at_plan = part_geometry.part_pose(env.physics, task.furniture,
+                                                   task.root_part)[0]
+    pair, twist = self._plan
+    self._stalled += 1
+    self._inserting = self._inserting + 1 if self.phase == Phase.INSERT else 0
+    pushed = not self._carrying and np.linalg.norm(part_geometry.part_pose(
+        env.physics, task.furniture, task.root_part)[0] - self._root_at_plan) > 0.03
+    if self._stalled > 2 * self._stall_steps or self._inserting > self._insert_steps or pushed:
+      self._failed_plans.add((pair, twist))
+      self._plan, self._stalled, self._inserting = None, 0, 0
+      self.phase = Phase.ALIGN
+      return None
+    return pair, twist
+
+  def _mate_goal(self, moving, pair, twist, offset):
+    """(part position `offset` back from its mating pose along the side it comes in from,
+    part rotation there, the tool pose that puts it there)."""
+    env = self._env
+    part_pos, part_rot, side = mating.mate_pose(env, pair, moving, twist)
+    part_pos = part_pos + offset * side
+    return part_pos, part_rot, mating.tool_goal_for_part(env, self._arm, moving, part_pos,
+                                                         part_rot)
+
+  def _carry(self, command, moving, pair, twist, part_pos, part_rot, goal):
+    """Over the tool goal at carry height (rising clear of the assembly first, round the
+    base); there, on to the goal below. Stalled up there, the carry comes lower, or with a
+    joint at its limit the arm replans."""
+    robot, physics, arm = self._robot, self._env.physics, self._arm
+    high = self._carry_height.waypoint(goal, moving, part_pos, part_rot, self._hanging)
+    waypoint = self._clearance.rise_first(self._clearance.arc_waypoint(high), moving, high[2])
+    command.tool[:] = self._servo(robot, physics, arm, waypoint, goal[1],
+                                  max_turn=arm_motion.CARRY_TURN)
+    distance, angle = arm_motion.pose_error(robot, physics, arm, high, goal[1])
+    self._carrying = not (distance < 0.03 and angle < 0.05)
+    if not self._carrying:
+      self._carry_watch.reset()   # on to the goal below
+    elif self._carry_watch.stalled(distance, angle):   # out of reach up there?
+      pinned = arm_motion.pinned(robot, physics, arm)
+      if self._carry_height.lower(goal, pinned):
+        self._carry_watch.reset()
+      elif pinned:
+        self._carry_stalled(moving, pair, twist)
+
+  def _servo_held(self, command, moving, part_pos, part_rot, goal, gain):
+    """The tool to `goal` at `gain` (slower with a hanging panel); returns the held part's
+    distance (m) and angle (rad) from (part_pos, part_rot)."""
+    physics, furniture = self._env.physics, self._env.task.furniture
+    command.tool[:] = self._servo(
+        self._robot, physics, self._arm, *goal, gain=gain,
+        max_speed=top_down_grasp.HANGING_SPEED if self._hanging else 1.0)
+    current, rot = part_geometry.part_pose(physics, furniture, moving)
+    return (np.linalg.norm(part_pos - current),
+            np.linalg.norm(geometry.mat_to_axis_angle(part_rot @ rot.T)))
+
+  def _on_put_back(self, command, moving):
+    """Along the path _put_back laid, down, then release."""
+    if not self._holding(moving):
+      self._to_next_reach()
+      return
+    robot, physics, arm = self._robot, self._env.physics, self._arm
+    goal, rot = self._put_back_path[self._counter], self._grasp[1]
+    lowering = self._counter == len(self._put_back_path) - 1
+    waypoint = goal if lowering else self._clearance.arc_waypoint(goal)
+    command.tool[:] = self._servo(robot, physics, arm, waypoint, rot, max_turn=0.3,
+                                  gain=top_down_grasp.DESCEND_GAIN if lowering else 1.0)
+    distance, angle = arm_motion.pose_error(robot, physics, arm, goal, rot)
+    self._stalled += 1
+    if distance < (0.01 if lowering else 0.03) and angle < 0.05:
+      self._counter += 1
+    if self._counter == len(self._put_back_path) or self._stalled > 2 * self._stall_steps:
+      self.phase, self._counter = Phase.RELEASE, 0
+
+  def _on_release(self, command, moving):
+    """Open for `release_steps`; then back off, and up clear of the assembly: a hand left
+    low beside a standing leg strikes it when it turns down for the next part."""
+    self._counter += 1
+    if self._counter >= self._release_steps:
+      self.phase, self._counter = Phase.RETREAT, 0
+      pos, rot = self._robot.tcp_pose(self._env.physics, self._arm)
+      back = pos - 0.1 * rot[:, 2] + [0.0, 0.0, 0.1]
+      back[2] = max(back[2], self._clearance.safe_height())
+      self._grasp = (back, rot)
+
+  def _on_retreat(self, command, moving):
+    """To the point the release chose, over the assembly; then the next reach."""
+    robot, physics, arm = self._robot, self._env.physics, self._arm
+    route = self._clearance
+    command.tool[:] = self._servo(robot, physics, arm, route.arc_waypoint(route.over_assembly(
+        self._grasp[0])), self._grasp[1])
+    self._counter += 1
+    if arm_motion.pose_error(robot, physics, arm, *self._grasp)[0] < 0.03 or self._counter > 40:
+      self._to_next_reach()
+
+  def _on_turn_over(self, command, moving):
+    """The turn-over's own steps (turn_over.TurnOver), gripper included."""
+    command.tool[:], command.action[command.grip] = (self._turn_over(self._servo),
+                                                     self._turn_over.gripper())
+    if self._turn_over.step == turn_over.Step.DONE:
+      self._to_next_reach(keep_clear=True)
+
+  def _on_unwind(self, command, moving):
+    """Home along a joint-space path (arm_motion.Unwinder); then the next reach."""
+    command.tool[:] = self._unwinder(self._robot, self._env.physics, self._arm)
+    if self._unwinder.done:
+      self.phase, self._counter, self._stalled = Phase.REACH, 0, 0
+
+  _PHASES = {Phase.REACH: _on_reach, Phase.DESCEND: _on_descend, Phase.CLOSE: _on_close,
+             Phase.LIFT: _on_lift, Phase.ALIGN: _on_align, Phase.INSERT: _on_insert,
+             Phase.RELEASE: _on_release, Phase.RETREAT: _on_retreat,
+             Phase.PUT_BACK: _on_put_back, Phase.UNWIND: _on_unwind,
+             Phase.TURN_OVER: _on_turn_over}
+
+  # -- moving between phases -------------------------------------------------------------
 
   def _settled(self):
     """The hand has come to rest, where its fingers curl below the tool centre: the Jaco's,

@@ -140,6 +140,16 @@ class TurnOver:
     """Forgets the episode's turn-overs."""
     self.step, self.failed = Step.DONE, False
     self._failed_handles = set()   # (part, approach) that slipped or stalled, this episode
+    # The present turn-over, chosen by `start`: the fingers' closing direction in the tool
+    # frame, the leg taken, the approach axis, grasp position and rotation, lift height
+    # and which way the roll turns.
+    self._closing_local = None
+    self._part = self._approach = self._point = self._rot = None
+    self._lift, self._sign = 0.0, 1.0
+    self._count = 0   # control steps in the present step
+    self._rolled, self._roll_idle = 0.0, 0   # rad rolled so far; steps the hand lagged the roll
+    self._out = None   # where the hand backs out to, along the approach
+    self._leg_at = None   # (x, y) of the leg as the hand went in (PUSHED)
 
   def _group(self):
     return part_geometry.root_group(self._env.task)
