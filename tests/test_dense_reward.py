@@ -81,7 +81,8 @@ def test_stage_terms_of_a_held_and_lifted_part_match_their_definitions():
   assert set(terms) == {"reach", "grasp", "lift", "distance", "angle"}
   assert not terms["grasp"].any() and not terms["lift"].any()   # nothing held yet
   # Cursor 0 selects leg0 at its grasp point, then raises it 5 cm (two steps at full speed).
-  robot.set_cursor_pose(physics, 0, part_geometry.grasp_point(physics, task.furniture, leg), np.eye(3))
+  robot.set_cursor_pose(physics, 0, part_geometry.grasp_point(physics, task.furniture, leg),
+                        np.eye(3))
   action = helpers.idle_action(env)
   action[6] = 1.0    # cursor0_select
   returns = 0.0

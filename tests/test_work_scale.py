@@ -56,7 +56,8 @@ def test_a_bench_end_is_held_away_from_its_connectors_below_the_work_scale():
   assert np.count_nonzero(shift) == 1
   # The stretcher, joined at both ends, is held at its middle.
   assert not below_work_scale.grip_shift(furniture, names.index("stretcher")).any()
-  assert not below_work_scale.active(ikea_suite.load("bench_plank_pine", "sawyer", scale=0.5, seed=0))
+  assert not below_work_scale.active(
+      ikea_suite.load("bench_plank_pine", "sawyer", scale=0.5, seed=0))
 
 
 def _grasp_height_over_part(scale):

@@ -1,5 +1,6 @@
-"""Task-space motion helpers for scripted arms: tool orientations, pose-seeking actions and
-pose errors, shared by the arm controller and the experts."""
+"""Task-space motion for scripted arms: tool orientations, pose-seeking actions, the way
+home in joint space, pose errors and what the hand and fingers reach, shared by the
+single-arm and two-arm experts and their skills."""
 
 import mujoco
 import numpy as np
@@ -74,11 +75,10 @@ def hold_command(gripper, short_of_closed):
   For a hand that closes one finger against two (closes_against_pair): squeezed past
   the limit, the pair bottom out on it and the single finger presses the part onto their tips,
   whose faces slope out of the hand; the part crept 0.5 mm/s out and fell during the
-  carry (Jaco, stool_round_frosta tuning seed 0: 18 mm leg, 4.5 -> 11 mm in 8 s). Aimed
-  short of the limit, the pair stay off it, all three pads meet the part and it crept
-  1.5 mm in the same 8 s. stool_round_frosta, tuning seeds 0-9: aimed at the limit
-  itself 3/10 complete, 0.05 rad short 5/10, 0.08 short 0/10 (too weak: the leg fell
-  as it was lifted).
+  carry (Jaco, stool_round_frosta: 18 mm leg, 4.5 -> 11 mm in 8 s). Aimed short of the
+  limit, the pair stay off it, all three pads meet the part and it crept 1.5 mm in the
+  same 8 s. Over ten stool_round_frosta episodes: aimed at the limit itself 3 complete,
+  0.05 rad short 5, 0.08 short none (too weak: the leg fell as it was lifted).
   """
   open_, closed = np.asarray(gripper.open_qpos), np.asarray(gripper.closed_qpos)
   target = closed - short_of_closed * np.sign(closed - open_)
@@ -119,9 +119,9 @@ class PoseServo:
 
   The action moves the robot's own target (which it integrates from the deltas)
   straight to the goal, so the target never winds up while the arm lags behind
-  it; the old way, feeding the measured error back each step, is an integrator
-  with a delay and oscillates wherever the arm is slow (measured: +-5 cm limit
-  cycles at the edge of the Sawyer's reach). A slow integral of the measured
+  it; feeding the measured error back each step instead is an integrator with a
+  delay and oscillates wherever the arm is slow (measured: +-5 cm limit cycles at
+  the edge of the Sawyer's reach). A slow integral of the measured
   error, gathered only near a goal that holds still, removes steady offsets
   such as a held load's sag; it starts afresh whenever the goal moves on, so an
   unreachable goal's wound-up offset never carries over to the next.
@@ -174,9 +174,9 @@ class Unwinder:
   The tool follows the poses of a straight joint-space path from the present joints to
   home, computed by forward kinematics: each lies next to where the arm already is, so
   the differential IK tracks them from any configuration. A straight tool path home does
-  not: from an arm folded against its limits the IK stays folded (Sawyer, tuning seed 3:
-  shoulder, elbow and wrist pinned, home 0.57 m out of reach, the same far part stalled
-  every reach for the rest of the episode).
+  not: from an arm folded against its limits the IK stays folded (Sawyer: shoulder,
+  elbow and wrist pinned, home 0.57 m out of reach, the same far part stalled every
+  reach for the rest of the episode).
   """
 
   def __init__(self, max_joint_step=0.15, steps_per_waypoint=6):
@@ -200,7 +200,7 @@ class Unwinder:
     """Plans the path from the present joints; then call until `done`. `keep_clear` (a
     position -> position callable) moves each waypoint but the last clear of what the arm
     must not strike: beside a chair just turned over, the straight joint path swung the
-    fingers 0.2 m down into it and the rising hand flipped it (pine_high, tuning seed 0)."""
+    fingers 0.2 m down into it and the rising hand flipped it (chair_back_pine_high)."""
     q, index, travel = self._travel(robot, physics, arm)
     count = max(1, int(np.ceil(np.abs(travel).max() / self._max_joint_step)))
     base_pos, base_rot = robot.base_pose
@@ -327,7 +327,7 @@ def servo_path_end(robot, arm, q, goal_pos, goal_rot, dt, max_turn=1.0, max_step
   A converged IK solve (Manipulator.reach_check) finds a pose by whatever path: it
   reached a trestle's mate from a wrist 0.3 rad short of its limit by turning it back,
   where the carry, turning the tool the short way round as the arm swung, drove it into
-  that limit and stalled 15 cm short (Sawyer, desk_trestle_w120_white tuning seed 1).
+  that limit and stalled 15 cm short (Sawyer, desk_trestle_w120_white).
   """
   ik = robot.ik
   base_pos, base_rot = robot.base_pose

@@ -4,13 +4,13 @@ above the floor.
 
 A part taken lying flat and turned upright to its mate turns the tool horizontal, at
 the height of the grasp point. Held at its middle, a 92 mm bench end (bench_plank_pine
-at scale 0.22, tuning seed 0) put the Sawyer's tool 65 mm above the floor, where its
-wrist (right_l6) lay on the floor: the arm stopped 6.5-8 mm short of the mate while its
-task-space target ran 27 mm below it, and the 4.4 mm connect distance was never met.
-Held near the end away from its connectors, the hand stays that much higher.
+at scale 0.22) put the Sawyer's tool 65 mm above the floor, where its wrist (right_l6)
+lay on the floor: the arm stopped 6.5-8 mm short of the mate while its task-space
+target ran 27 mm below it, and the 4.4 mm connect distance was never met. Held near the
+end away from its connectors, the hand stays that much higher.
 
-Everything here applies only below the work scale (`active`): the scale-0.5 episodes
-the supported lists were measured on are unchanged.
+Everything here applies only below the work scale (`active`), so episodes at the work
+scale, on which the supported lists rest, do not depend on it.
 """
 
 import numpy as np

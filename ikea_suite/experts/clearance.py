@@ -39,7 +39,7 @@ class AssemblyClearance:
     below that height beside the assembly, straight up first.
 
     Travelling low, the hand sweeps into legs already standing on the root; rising while
-    moving sideways, the hand and forearm still struck them (Sawyer, seeds 0-4).
+    moving sideways, the hand and forearm still struck them (Sawyer).
     """
     pos, _ = self._robot.tcp_pose(self._env.physics, self._arm)
     if np.linalg.norm(goal[:2] - pos[:2]) < near:
@@ -50,7 +50,7 @@ class AssemblyClearance:
     centre, radius = part_geometry.assembly_circle(physics, task.furniture, task.root_part)
     if pos[2] < safe - 0.02 and np.linalg.norm(pos[:2] - centre) < radius + 0.15:
       # Up from where the rise began: re-aimed from the present position each step,
-      # the hand drifted sideways into the leg beside it as it rose (Panda, seeds 0-4).
+      # the hand drifted sideways into the leg beside it as it rose (Panda).
       if self._rise_from is None:
         self._rise_from = pos[:2].copy()
       return np.array([*self._rise_from, safe])
@@ -63,8 +63,7 @@ class AssemblyClearance:
     assembly (footprints `margin` apart) whose top it does not yet clear by `clearance`.
     Only where the carry's height `top` (tool z) clears that part: otherwise the carry
     could never get past it. Rising while swinging sideways from the floor, a stretcher's
-    end struck a standing trestle and toppled it (Panda, table_trestle_l120_white tuning
-    seeds 1, 2, 9, 10)."""
+    end struck a standing trestle and toppled it (Panda, table_trestle_l120_white)."""
     task, physics = self._env.task, self._env.physics
     furniture = task.furniture
     pos, _ = self._robot.tcp_pose(physics, self._arm)
@@ -105,7 +104,7 @@ class AssemblyClearance:
     """The carry height (tool z) over the tool goal `goal`: `top`, or lower until the arm
     reaches it with its tool at `rot` (IK miss under 1 cm), but not below `floor`
     (carry_floor). Half a metre over the table, a box's far wall lay 0.77 m out, beyond
-    the Jaco's reach, and the carry stalled there until the episode ended (tuning seed 0)."""
+    the Jaco's reach, and the carry stalled there until the episode ended."""
     robot, physics = self._robot, self._env.physics
     z = top
     while z > floor and robot.reach_check(physics, self._arm, np.array(

@@ -3,9 +3,9 @@
 A leg dropped beside the upside-down table top, or lying against another leg, was
 taken at its middle, where one open finger came down on the other part: the hand
 stopped 9 mm above its grasp height and the reach stalled, every 150 steps, until the
-episode ended (Sawyer, table_four_leg_kids_white, tuning seeds 5 and 9). Such a part
-is taken instead at the nearest point along its long axis where both fingers land
-clear, while the pads still cover it.
+episode ended (Sawyer, table_four_leg_kids_white). Such a part is taken instead at the
+nearest point along its long axis where both fingers land clear, while the pads still
+cover it.
 """
 
 import mujoco

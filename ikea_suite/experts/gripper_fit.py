@@ -2,13 +2,13 @@
 cannot assemble whatever its luck.
 
 The single-arm expert takes a part from above, fingers closing across the part's long
-axis (experts/part_geometry.across_long_axis). That needs the part's width along the closing
+axis (part_geometry.across_long_axis). That needs the part's width along the closing
 direction to be less than the open fingers' gap and more than the closed fingers' gap:
 a wider part does not fit between them, and a thinner one is never squeezed (it hangs
 between fingers stopped at their closed limit and falls at the first swing). Panels,
-seats and discs lying flat fail the first test; the Sawyer's 13 mm closed gap fails the
-second for thin metal legs at half scale. The root part stays on the floor and is
-never picked up.
+seats and discs lying flat fail the first test; thin metal legs at half scale fail the
+second in fingers that stop 13 mm apart when closed (the Rethink gripper in its default
+slot, grippers.RETHINK). The root part stays on the floor and is never picked up.
 """
 
 import dataclasses

@@ -23,7 +23,7 @@ def winds_past_a_turn(robot, arm):
 # A converged IK solve that misses by more than this (m) may have stopped in a local
 # minimum: the servo's own path is then tried too. From a racked trestle's grasp the IK
 # missed the far mate by 12 cm, four joints at their limits, where the servo's path
-# reached it (Panda, desk_trestle_w120_white tuning seed 10).
+# reached it (Panda, desk_trestle_w120_white).
 PATH_CHECK_MISS = 0.01
 
 
@@ -35,7 +35,7 @@ def reach_cost(robot, physics, arm, goal_pos, goal_rot, start=None, servo=None, 
   starts where the servo's own path from there stops (arm_motion.servo_path_end): from
   home the IK reached a racked trestle's mate turning the wrist back from near its
   limit, where the carry drove it into that limit and stalled 15 cm short (Sawyer,
-  desk_trestle_w120_white tuning seed 1). For other arms the path is tried where the
+  desk_trestle_w120_white). For other arms the path is tried where the
   converged IK misses by more than PATH_CHECK_MISS, and the nearer of the two counts.
   `path_end`: where that path stops (its joints), when the caller has replayed it already.
   """
@@ -79,8 +79,8 @@ def mate_pose(env, pair, moving, twist):
   then meets one of the assembly's too, as a bench's stretcher meets both ends) comes
   in from above: along its own axis, from the side, it would run through the far end."""
   task, physics = env.task, env.physics
-  part_pos, part_rot, side = part_geometry.mated_part_pose(physics, task.furniture, pair, moving,
-                                                     twist)
+  part_pos, part_rot, side = part_geometry.mated_part_pose(physics, task.furniture, pair,
+                                                           moving, twist)
   table = task.furniture.connectors
   groups = task.state.group_labels()
   mine = _other_connectors(table, moving, pair)
@@ -123,7 +123,7 @@ def hand_in_the_way(env, arm, tool_pos, tool_rot):
   degrees of vertical, whose hand stays above what it mates. A hand reaching in over
   the middle of the assembly strikes the parts standing there and drags it along: a
   Panda taking a chair's near corner, its tool pointing back at the base, crossed the
-  seat, and its forearm pushed the two far legs 0.4 m (tuning seed 2)."""
+  seat, and its forearm pushed the two far legs 0.4 m."""
   physics, task, robot = env.physics, env.task, env.task.robot
   back = -tool_rot[:, 2]
   if np.linalg.norm(back[:2]) < 0.5:
@@ -151,8 +151,7 @@ def in_a_later_carry(env, moving, pair, part_pos, part_rot, carry_top):
   the tool above `carry_top` (the nominal carry height). The Panda reaches 0.70 m, not the
   0.75 m a half-scale trestle needs over the one standing before it; the first trestle
   stood at the mate nearer the rack, the second struck it on its way to the far one and
-  fell (desk_trestle_w120_white tuning seeds 2, 9, 10, 16, table_trestle_l120_white 9,
-  10, 16)."""
+  fell (desk_trestle_w120_white, table_trestle_l120_white)."""
   task, physics, robot = env.task, env.physics, env.task.robot
   furniture, table = task.furniture, task.furniture.connectors
   groups = task.state.group_labels()
@@ -201,7 +200,7 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None, start=No
   from outside wins wherever the arm reaches it) cost. (pair, twist) in `failed_plans`
   and mates off the design (off_design) are skipped: a trestle that attached facing
   out, once the twist facing in had stalled, left its stretcher no slot (Panda,
-  desk_trestle_w100_birch tuning seeds 6 and 15); with no other mate left the part is
+  desk_trestle_w100_birch); with no other mate left the part is
   set down and taken the other way. With `carry_top` (the nominal carry height), a mate
   where the part would stand in a later racked part's carry, too tall to be passed over
   (in_a_later_carry), costs 1. None when no mate is open.
@@ -249,11 +248,11 @@ def choose_grasp_sign(env, arm, moving, grasp_pose, hover, approach, failed_plan
   The mating is judged from where the servo's path (arm_motion.servo_path_end) stops
   above the grasp, not from the present pose: a wrist that took a racked trestle near
   the end of its range turned into its limit on the way to the mate, which from home
-  the IK reached turning it the other way (Sawyer, desk_trestle_w100_birch tuning seed
-  3, w120_white seed 1); from home the IK reached a trestle's far mate that from the
-  grasp neither it nor the servo reached, the last joint at its limit 16 cm short, and
-  the trestle went to the near mate, where the next one's carry struck it (Panda,
-  w120_white seed 2)."""
+  the IK reached turning it the other way (Sawyer, desk_trestle_w100_birch and
+  w120_white); from home the IK reached a trestle's far mate that from the grasp
+  neither it nor the servo reached, the last joint at its limit 16 cm short, and the
+  trestle went to the near mate, where the next one's carry struck it (Panda,
+  desk_trestle_w120_white)."""
   physics, furniture, robot = env.physics, env.task.furniture, env.task.robot
   part_pos, part_rot = part_geometry.part_pose(physics, furniture, moving)
   best = None

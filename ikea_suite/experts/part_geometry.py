@@ -1,4 +1,7 @@
-"""Target poses and routes the oracle drives parts along, computed from privileged state."""
+"""Where the furniture's parts are and where they go, read from privileged state: part
+poses, grasp points, assembled and mated poses, bounding corners, the assembly's
+footprint, and the routes the Cursor oracle carries parts along. Shared by every expert;
+nothing here moves."""
 
 import numpy as np
 

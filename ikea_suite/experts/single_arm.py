@@ -1,4 +1,5 @@
-"""A scripted task-space controller for a single parallel-gripper arm (built on Sawyer).
+"""The single-arm expert: a scripted task-space controller for one arm with a gripper (the
+Sawyer, Panda and Jaco, and each of the Baxter's arms).
 
 With privileged state it picks the planner's next part, grasps it by
 friction, turns it so its connector meets the mate on the assembly, and
@@ -146,7 +147,8 @@ class ArmAssemblyController:
 
   def take_over(self):
     """Starts afresh from the present assembly (another arm made connections), still
-    avoiding the grasps it stalled on: the Baxter retried one a dozen times (seed 3)."""
+    avoiding the grasps it stalled on: forgetting them, a Baxter arm retried one a dozen
+    times."""
     connections = len(self._env.task.state.connections)
     stalled = self._stalled_grasps if connections == self._connections else set()
     self.reset()
@@ -484,7 +486,7 @@ class ArmAssemblyController:
   def _settled(self):
     """The hand has come to rest, where its fingers curl below the tool centre: the Jaco's,
     still moving at the descent's gate, dipped and swung 1 cm sideways while closing, and
-    the tips struck the floor beside the part (tuning seed 2)."""
+    the tips struck the floor beside the part."""
     tcp, _ = self._robot.tcp_pose(self._env.physics, self._arm)
     last, self._last_tcp = self._last_tcp, tcp
     return (not self._against_pair() or
@@ -516,9 +518,10 @@ class ArmAssemblyController:
 
   def _no_mate_left(self, moving):
     """Every mate and twist of the held part has failed with this grasp. Dropped where it
-    hung and taken the same way again, it looped 30 times (Sawyer, kids_white tuning
-    seed 7). It is set down and taken with the other grasp, its failed mates forgotten;
-    with both grasps spent, the other parts go first until the next connection."""
+    hung and taken the same way again, it looped 30 times (Sawyer,
+    table_four_leg_kids_white). It is set down and taken with the other grasp, its failed
+    mates forgotten; with both grasps spent, the other parts go first until the next
+    connection."""
     self._stalled_grasps.add((moving, self._grasp_sign))
     if (moving, -self._grasp_sign) in self._stalled_grasps:
       self._unreachable.add(moving)

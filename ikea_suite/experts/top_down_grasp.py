@@ -17,7 +17,7 @@ from ikea_suite.tasks import panel_placement
 # A panel standing TALL or taller (in the rack, props/panel_rack.py) is taken by its
 # top edge: the fingertips go EDGE_GRIP below it, across its thickness, and the hand stays
 # above it. Legs, rails and blocks (every part of the catalog's stools and four-leg
-# tables) are taken as low as the fingertips allow, as before.
+# tables) are taken as low as the fingertips allow.
 TALL = panel_placement.MIN_HEIGHT
 EDGE_GRIP = 0.02
 
@@ -30,7 +30,7 @@ SETTLED_SPEED = 0.0005
 # Such a hand (one finger against two) holds a lifted part with its fingers aimed this far
 # (rad) short of their closed limit instead of past it; see arm_motion.hold_command.
 HOLD_SHORT_OF_CLOSED = 0.05
-# A panel held by its top edge (by_top_edge) hangs from the fingers: it goes
+# A panel held by its top edge (TopDownGrasp.by_top_edge) hangs from the fingers: it goes
 # down onto its mate at this fraction of the arm's top speed (at 25 mm a step it swung
 # as the arm stopped), and the fingers close on it only within EDGE_GATE (m): 6 mm off,
 # as for a leg, one finger pushed a 6 mm box wall over in its slot, the hand held it
@@ -40,7 +40,7 @@ HANGING_SPEED, EDGE_GATE = 0.3, 0.0015
 # top edge starts only within EDGE_REACH (m) of the point above it, and goes down at
 # HANGING_SPEED. Started 2 cm off (the REACH gate) with the tool lagging its target, and
 # at full speed, a fingertip landed on the edge and pushed the panel out of the rack
-# (Sawyer, desk_trestle_w100_birch tuning seeds 4, 14, 17, 18).
+# (Sawyer, desk_trestle_w100_birch, in 4 of 20 episodes).
 EDGE_REACH = 0.006
 
 
@@ -84,7 +84,7 @@ class TopDownGrasp:
     # 6.5 mm centre stayed 7.5 mm short of the descent's 6 mm gate.
     # The box's lowest corner, not below the surface it lies on: a part lying rolled about
     # its long axis has box corners below the floor, and fingertips aimed 3 mm above such a
-    # corner pressed on the floor and could not close (Baxter, tuning seed 1, side_oak).
+    # corner pressed on the floor and could not close (Baxter, table_four_leg_side_oak).
     route = self._route
     if route.pad_below is None:   # measured at the first grasp, with the arm at home
       route.pad_below = arm_motion.fingertip_reach(self._robot, physics, self._arm)

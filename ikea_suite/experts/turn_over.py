@@ -37,13 +37,13 @@ STANDOFF = 0.12
 OVER_CLEARANCE = 0.08
 # A leg the hand, going in, has pushed this far (m) is given up: the hand followed the
 # leg it pushed and slid the chair 0.55 m out, beyond the reach the back needs
-# (dark_bar, white_round and frame_back_black_tall, tuning seeds 0 and 2).
+# (chair_back_dark_bar, chair_back_white_round, chair_frame_back_black_tall).
 PUSHED = 0.02
 # Rad the hand rolls per control step (about 20 degrees a second at 20 Hz).
 ROLL_STEP = 0.02
 # A roll that stops this short (rad) of the half turn, the hand no longer following for
 # ROLL_WAIT control steps, is done: the Panda's last joint met its limit at 3.0 rad
-# (dark_bar, tuning seed 2), and set down 8 degrees from level the chair lands on its
+# (chair_back_dark_bar), and set down 8 degrees from level the chair lands on its
 # legs, where let go from the lift height at the end of the step budget it fell on its side.
 ROLL_SLACK, ROLL_WAIT = 0.35, 20
 
@@ -57,7 +57,7 @@ def under_support(physics, furniture, pair, moving, surface):
   """Whether `moving`, mated at the pair onto the assembly as it lies, would reach BELOW
   or more into the surface (a chair's back under its upside-down seat)."""
   pos, rot, _ = part_geometry.mated_part_pose(physics, furniture, pair, moving,
-                                        _twist(furniture.connectors, pair))
+                                              _twist(furniture.connectors, pair))
   corners = part_geometry.part_corners(furniture, moving, pos, rot)
   return bool(corners[:, 2].min() < surface - BELOW)
 
@@ -107,7 +107,7 @@ class Step(enum.Enum):
   OVER = "over"         # over the standoff, clear of the assembly, the hand pointing sideways
   STANDOFF = "standoff"  # level with the grasp, STANDOFF out along the approach
   IN = "in"             # along the approach to the handle, slowly: at full speed the hand
-                        # swung 7 degrees and pushed the chair 2.4 cm (tuning seed 4)
+                        # swung 7 degrees and pushed the chair 2.4 cm
   CLOSE = "close"       # squeeze
   LIFT = "lift"         # up until the assembly rolls clear of the surface
   ROLL = "roll"         # half a turn about the approach axis
@@ -115,7 +115,7 @@ class Step(enum.Enum):
   OPEN = "open"         # let go
   OUT = "out"           # back along the approach
   UP = "up"             # up clear of the assembly: unwinding from low beside the chair
-                        # just stood up, the arm knocked it over (tuning seed 3)
+                        # just stood up, the arm knocked it over
   DONE = "done"
 
 
@@ -162,7 +162,8 @@ class TurnOver:
     rot = arm_motion.tool_rotation(approach, closing, self._closing_local)
     handle_top = part_geometry.parts_corners(physics, furniture, [part])[:, 2].max()
     height = max(
-        part_geometry.parts_corners(physics, furniture, [self._env.task.root_part])[:, 2].max() + OVER_SEAT,
+        part_geometry.parts_corners(physics, furniture, [self._env.task.root_part])[:, 2].max()
+        + OVER_SEAT,
         self._surface + HAND_CLEARANCE + arm_motion.hand_below_tool(
             self._env.task.robot, physics, self._arm, rot))
     if height > handle_top - 0.02:
@@ -212,7 +213,7 @@ class TurnOver:
         cost += 2.0 * arm_motion.cramped(base, point, approach)
         # The waiting part then goes in from above: rolled over a near leg, the back's slot
         # lay 0.26 m from the Panda's base, where its tool, pointing down 0.5 m up, could
-        # not reach, and both twists stalled (chair_back_ivar, black_wide, tuning seed 3).
+        # not reach, and both twists stalled (chair_back_ivar, chair_back_black_wide).
         cost += 2.0 * np.mean([arm_motion.cramped(base, slot, np.array([0.0, 0.0, -1.0]))
                                for slot in rolled])
         for goal in poses:
@@ -256,7 +257,7 @@ class TurnOver:
     tcp, _ = self._env.task.robot.tcp_pose(self._env.physics, self._arm)
     if self.step == Step.LOWER:
       lowest = part_geometry.parts_corners(self._env.physics, self._env.task.furniture,
-                             self._group())[:, 2].min()
+                                           self._group())[:, 2].min()
       return tcp - [0.0, 0.0, lowest - self._surface - DROP], rolled
     if self.step == Step.UP:
       return np.array([*self._out[:2], self._route.safe_height()]), rolled
@@ -318,7 +319,7 @@ class TurnOver:
   def _over_height(self):
     """Tool height at which the hand, pointing sideways, passes OVER_CLEARANCE over the
     assembly: at the open fingers' safe height its body reached 9 cm lower and struck the
-    upturned legs; the chair moved 3-21 cm in 52 of 226 such moves (tuning seeds 0-19)."""
+    upturned legs; the chair moved 3-21 cm in 52 of 226 such moves (twenty episodes)."""
     env = self._env
     below = arm_motion.hand_below_tool(env.task.robot, env.physics, self._arm, self._rot)
     return max(self._route.safe_height(OVER_CLEARANCE),
@@ -340,4 +341,4 @@ class TurnOver:
       self._set_out()
     if self.step == Step.IN:
       self._leg_at = part_geometry.part_pose(self._env.physics, self._env.task.furniture,
-                                       self._part)[0][:2].copy()
+                                             self._part)[0][:2].copy()

@@ -18,9 +18,9 @@ from ikea_suite.props import scaling
 # every other model is assembled at WORK_SCALE. Measured for each robot with the panel
 # rack (tasks/panel_placement.py), which stands box walls, bench ends, bookcase and
 # cabinet sides and headboards upright: they are taken across their thickness, so the
-# boxes and plank benches now fit both grippers at 0.5. The Sawyer's fingers, one slot
-# in (grippers.RETHINK_SLOT_1, eighteenth session), meet when closed and open to 60 mm:
-# 56 models fit it at 0.5, the slatted beds at 0.33 and the CD tower at 0.24.
+# boxes and plank benches fit both grippers at 0.5. The Sawyer's fingers, one slot in
+# (grippers.RETHINK_SLOT_1), meet when closed and open to 60 mm: 56 models fit it at
+# 0.5, the slatted beds at 0.33 and the CD tower at 0.24.
 _SLATTED_BEDS = tuple(f"bed_slatted_{v}" for v in (
     "day_black", "junior_pine", "kids_birch_open", "kids_dark_open", "kids_white",
     "toddler_white"))
@@ -52,7 +52,8 @@ def work_scale(robot, furniture):
 def fit_scale(robot, furniture, arm=0, clearance=None):
   """The largest scale, in hundredths, no larger than the robot's WORK_SCALE, at which
   every loose part is wider than the closed fingertips' gap and leaves `clearance`
-  (default gripper_fit.CLEARANCE, the test grasp_problems makes) within the open one; None when there is none from scaling.MIN_SCALE."""
+  (default gripper_fit.CLEARANCE, the test grasp_problems makes) within the open one;
+  None when there is none from scaling.MIN_SCALE."""
   import ikea_suite
   from ikea_suite.experts import gripper_fit
   from ikea_suite.robots import registry
