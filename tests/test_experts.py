@@ -235,3 +235,18 @@ def test_rollout_cli_oracle_policy_for_an_arm_suggests_its_expert(capsys):
   assert cli.main(["--policy", "oracle", "--robot", "sawyer", "--time-limit", "1"]) == 2
   err = capsys.readouterr().err
   assert "--policy oracle drives the cursor robot, not the sawyer; use --policy expert" in err
+
+
+def test_registry_names_each_robots_expert_and_its_control_modes():
+  assert registry.ROBOTS == ("cursor", "sawyer", "panda", "baxter", "jaco")
+  assert registry.expert("cursor").control_modes is None
+  for robot in ("sawyer", "panda", "baxter", "jaco"):
+    assert registry.expert(robot).control_modes == ("task_space", "impedance")
+  assert [registry.expert(r).kind for r in registry.ROBOTS] == [
+      "cursor_oracle", "single_arm", "single_arm", "two_arm", "single_arm"]
+  with pytest.raises(ikea_suite.UnknownNameError, match="robot with an expert"):
+    registry.expert("r2d2")
+  env = ikea_suite.load("table_four_leg_lack", "baxter", control_mode="joint_torque")
+  with pytest.raises(ikea_suite.IkeaSuiteError,
+                     match="the baxter expert .* got control_mode='joint_torque'"):
+    experts.make_expert(env)

@@ -20,7 +20,12 @@ class TwoArmExpert:
 
   Args:
     env: an environment whose robot has two arms (right first).
+
+  Raises:
+    IkeaSuiteError: the robot's control mode is not one of CONTROL_MODES.
   """
+
+  CONTROL_MODES = single_arm.ArmAssemblyController.CONTROL_MODES   # each arm's expert's
 
   def __init__(self, env):
     self._env = env

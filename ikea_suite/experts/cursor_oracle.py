@@ -43,6 +43,8 @@ class Phase(enum.Enum):
 class CursorOracle:
   """Call with a TimeStep; returns an action for `env` (an ikea_suite cursor environment)."""
 
+  CONTROL_MODES = None   # the Cursor has no control modes
+
   def __init__(self, env, lift=LIFT, gain=1.0, tolerance=0.5, clearance=0.12):
     self._env = env
     self._lift, self._gain, self._clearance = lift, gain, clearance

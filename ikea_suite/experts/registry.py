@@ -23,7 +23,6 @@ from ikea_suite.experts import bimanual
 from ikea_suite.experts import cursor_oracle
 from ikea_suite.experts import single_arm
 from ikea_suite.props import catalog
-from ikea_suite.robots import control_modes
 
 # Fraction of a pair's measured episodes that must complete the furniture to list it.
 SUPPORT_FRACTION = 0.8
@@ -37,17 +36,21 @@ class Expert:
   Attributes:
     robot: the robot's name (ikea_suite.robot_names()).
     kind: the expert's name in datasets: "cursor_oracle", "single_arm" or "two_arm".
-    policy: the expert's class, built with the environment.
-    control_modes: the robot's control modes the expert drives it in; None for a robot
-      without control modes (the Cursor).
+    policy: the expert's class, built with the environment; its CONTROL_MODES are the
+      robot's control modes it drives (None for a robot without them, the Cursor), and
+      building it in another mode raises.
     every_model: True when the expert assembles every catalog model at full size rather
       than a measured list.
   """
   robot: str
   kind: str
   policy: type
-  control_modes: tuple[str, ...] | None
   every_model: bool = False
+
+  @property
+  def control_modes(self) -> tuple[str, ...] | None:
+    """The robot's control modes the expert drives it in; None for a robot without them."""
+    return self.policy.CONTROL_MODES
 
   @property
   def two_arm(self) -> bool:
@@ -55,13 +58,12 @@ class Expert:
     return self.kind == "two_arm"
 
 
-_ARM_MODES = control_modes.DELTA_TARGETS   # the experts send task-space moves
 EXPERTS = {e.robot: e for e in (
-    Expert("cursor", "cursor_oracle", cursor_oracle.CursorOracle, None, every_model=True),
-    Expert("sawyer", "single_arm", single_arm.ArmAssemblyController, _ARM_MODES),
-    Expert("panda", "single_arm", single_arm.ArmAssemblyController, _ARM_MODES),
-    Expert("baxter", "two_arm", bimanual.TwoArmExpert, _ARM_MODES),
-    Expert("jaco", "single_arm", single_arm.ArmAssemblyController, _ARM_MODES),
+    Expert("cursor", "cursor_oracle", cursor_oracle.CursorOracle, every_model=True),
+    Expert("sawyer", "single_arm", single_arm.ArmAssemblyController),
+    Expert("panda", "single_arm", single_arm.ArmAssemblyController),
+    Expert("baxter", "two_arm", bimanual.TwoArmExpert),
+    Expert("jaco", "single_arm", single_arm.ArmAssemblyController),
 )}
 ROBOTS = tuple(EXPERTS)
 
@@ -227,15 +229,9 @@ def make_expert(env: environment.Environment, require_supported: bool = False) -
     UnknownNameError: a robot with no expert, or (require_supported) an unsupported pair.
     IkeaSuiteError: an arm in a control mode its expert does not drive.
   """
-  robot = env.task.robot
-  entry = expert(robot.mjcf_model.model)
+  entry = expert(env.task.robot.mjcf_model.model)
   if require_supported:
     supported_scale(entry.robot, env.task.furniture.name)
-  if entry.control_modes is not None and robot.control_mode not in entry.control_modes:
-    raise errors.IkeaSuiteError(
-        f"the {entry.robot} expert drives the arm by task-space moves, in control_mode "
-        f"{' or '.join(map(repr, entry.control_modes))}, got "
-        f"control_mode={robot.control_mode!r}")
   return entry.policy(env)
 
 

@@ -13,6 +13,7 @@ import enum
 
 import numpy as np
 
+from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.experts import arm_motion
 from ikea_suite.experts import clearance
@@ -22,6 +23,7 @@ from ikea_suite.experts import part_geometry
 from ikea_suite.experts import sensing
 from ikea_suite.experts import top_down_grasp
 from ikea_suite.experts import turn_over
+from ikea_suite.robots import control_modes
 
 # Rad of any joint from home beyond which the arm goes home in joint space between parts.
 UNWIND_FROM = 1.0
@@ -56,8 +58,8 @@ class _Command:
 
 
 class ArmAssemblyController:
-  """Call with a TimeStep (or nothing); returns the action for `env`, whose arm moves in a
-  task-space mode (make_expert checks: registry.Expert.control_modes).
+  """Call with a TimeStep (or nothing); returns the action for `env`, whose arm moves in
+  one of CONTROL_MODES.
 
   Each control step first notes a new connection (on to RELEASE) and chooses the next
   part when it needs one; then the present phase's method (_PHASES: one small method per
@@ -76,11 +78,22 @@ class ArmAssemblyController:
     release_steps: control steps the fingers take to open.
     stall_steps: control steps a reach may take before the part is given up.
     insert_steps: control steps an insertion may take before the mate is given up.
+
+  Raises:
+    IkeaSuiteError: the robot's control mode is not one of CONTROL_MODES.
   """
+
+  # The expert sends task-space moves: the modes whose actions move the tool by deltas.
+  CONTROL_MODES = control_modes.DELTA_TARGETS
 
   def __init__(self, env, arm=0, hover=0.12, lift=0.12, carry=0.5, approach=0.08, tolerance=0.9,
                close_steps=8, release_steps=6, stall_steps=150, insert_steps=40):
     robot = env.task.robot
+    if robot.control_mode not in self.CONTROL_MODES:
+      raise errors.IkeaSuiteError(
+          f"the {robot.mjcf_model.model} expert drives the arm by task-space moves, in "
+          f"control_mode {' or '.join(map(repr, self.CONTROL_MODES))}, got "
+          f"control_mode={robot.control_mode!r}")
     self._env, self._robot, self._arm = env, robot, arm
     self._hover, self._lift, self._approach = hover, lift, approach
     self._tolerance = tolerance
