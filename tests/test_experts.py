@@ -175,7 +175,11 @@ def test_measurement_of_the_cursor_and_of_unmeasured_pairs():
 
 def test_the_measurements_file_is_in_the_writers_own_format():
   text = registry.DATA_PATH.read_text(encoding="utf-8")
-  assert registry.dumps(json.loads(text)) == text
+  data = json.loads(text)
+  assert registry.dumps(data) == text
+  assert set(data["robots"]) == {r for r in registry.ROBOTS if not registry.expert(r).every_model}
+  for robot, entry in data["robots"].items():
+    assert set(entry["furniture"]) <= set(ikea_suite.furniture_names()), robot
 
 
 def _sweep_rows(robot, furniture, completes, arms=(0,), seed=50000):
