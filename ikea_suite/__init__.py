@@ -13,6 +13,7 @@ if _sys.platform.startswith("linux") and not _os.environ.get("DISPLAY"):
   _os.environ.setdefault("MUJOCO_GL", "egl")
 
 from ikea_suite.errors import ActionError  # noqa: E402  (after the rendering default)
+from ikea_suite.errors import EpisodeStartError  # noqa: E402
 from ikea_suite.errors import IkeaSuiteError  # noqa: E402
 from ikea_suite.errors import ModelFormatError  # noqa: E402
 from ikea_suite.errors import OptionValueError  # noqa: E402
@@ -28,7 +29,7 @@ from ikea_suite.suite import load  # noqa: E402
 from ikea_suite.suite import robot_names  # noqa: E402
 
 __all__ = [   # the public API; ALL and EXPERT_SUPPORTED are computed on first use (below)
-    "ActionError", "IkeaSuiteError", "ModelFormatError", "OptionValueError", "UnknownNameError",
+    "ActionError", "EpisodeStartError", "IkeaSuiteError", "ModelFormatError", "OptionValueError", "UnknownNameError",
     "invalid_models", "register_models", "unregister_models", "DEFAULT_FURNITURE",
     "DEFAULT_ROBOT", "all_environments", "furniture_names", "load", "robot_names"]
 

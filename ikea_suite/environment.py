@@ -12,6 +12,11 @@ from dm_control.rl import control
 from ikea_suite import errors
 from ikea_suite import fresh_observable
 
+# Resets retried when the parts cannot be laid out (composer's EpisodeInitializationError):
+# load() accepts furniture that fits the work table in at least half its layouts, so ten
+# tries fail together at most once in 2**10 resets.
+RESET_ATTEMPTS = 10
+
 
 def check_action(action, spec, names, bounds=None):
   """Returns the action as a float array clipped to the spec; raises ActionError if malformed.
@@ -104,6 +109,7 @@ class Environment(composer.Environment):
     # Nothing in an episode changes the MJCF: compile once, and let reset restore
     # state, variations and placement on the same Physics (and its render contexts).
     kwargs.setdefault("recompile_mjcf_every_episode", False)
+    kwargs.setdefault("max_reset_attempts", RESET_ATTEMPTS)
     super().__init__(task, **kwargs)
     self._action_names = list(task.action_names)
     self._checked_spec = None
@@ -121,9 +127,14 @@ class Environment(composer.Environment):
     return self._termination_reason
 
   def reset(self):
+    """Starts an episode; raises EpisodeStartError when it cannot start (composer's
+    EpisodeInitializationError, or a MuJoCo warning on the first state)."""
     self._termination_reason = None
     self._plain_observables = None   # the updater rebuilds its observables on reset
-    return super().reset()
+    try:
+      return super().reset()
+    except (composer.EpisodeInitializationError, control.PhysicsError) as e:
+      raise errors.EpisodeStartError(f"the episode could not start: {e}") from e
 
   @property
   def time_limit(self):

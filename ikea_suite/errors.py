@@ -46,5 +46,10 @@ class OptionValueError(IkeaSuiteError, ValueError):
   """An option of load() with a value outside its valid range or choices."""
 
 
+class EpisodeStartError(IkeaSuiteError, RuntimeError):
+  """An episode that could not start: its parts could not be laid out, or its first state
+  is not a valid physics state; names the reason."""
+
+
 class SequenceError(IkeaSuiteError, ValueError):
   """A furniture for which no assembly order with free insertion paths was found."""

@@ -1,49 +1,32 @@
-"""ikea_suite.load: furniture x robot x options -> a composer environment."""
+"""ikea_suite.load: furniture x robot x options (config.py) -> a composer environment."""
 
-import dataclasses
 import os
 from typing import Any
 
+import numpy as np
+from dm_control import composer
+
+from ikea_suite import config
 from ikea_suite import environment
 from ikea_suite import errors
-from ikea_suite import options as ranges
-from ikea_suite import physics_settings
 from ikea_suite.arenas import presets
 from ikea_suite.arenas import work_table
 from ikea_suite.props import catalog
 from ikea_suite.props import furniture as furniture_lib
 from ikea_suite.props import scaling
 from ikea_suite.robots import registry
-from ikea_suite.tasks import alignment
-from ikea_suite.tasks import arm_placement
 from ikea_suite.tasks import assembly
 from ikea_suite.tasks import camera_observables
-from ikea_suite.tasks import placement
 from ikea_suite.tasks import randomization
 
 DEFAULT_FURNITURE = "table_four_leg_lack"
 DEFAULT_ROBOT = "cursor"
-
-# Option name -> (where it goes, default). Thresholds are flattened for convenience.
-TASK_OPTIONS = ("control_timestep", "physics_timestep", "connection_reward", "completion_bonus",
-                "reward")
-THRESHOLD_OPTIONS = {"distance_threshold": "distance", "up_threshold": "up_cos",
-                     "forward_threshold": "forward_cos"}
-ENVIRONMENT_OPTIONS = ("time_limit",)
-# Furniture size factor (props/scaling.py): lengths x scale, masses x scale^3, inertias x scale^5.
-FURNITURE_OPTIONS = ("scale",)
-# Scene preset, placement, randomization and cameras: see the README, "Observations, scenes and domain randomization".
-SCENE_OPTIONS = (("scene", "arena") + placement.OPTIONS + randomization.OPTIONS
-                 + camera_observables.OPTIONS)
-# Default episode length in simulated seconds: a start-up allowance plus a
-# fixed budget per part (500 control steps at 20 Hz), so larger furniture gets
-# proportionally longer episodes.
-TIME_LIMIT_BASE = 30.0
-TIME_LIMIT_PER_PART = 25.0
-
-
-def default_time_limit(num_parts):
-  return TIME_LIMIT_BASE + TIME_LIMIT_PER_PART * num_parts
+# load() lays a furniture out on the work table this many times and refuses it when more
+# than half the layouts fail. The layout is random: at scale 0.5 with the Panda, 45 of the
+# catalog's 129 models failed in all of 20 layouts (and 4 have a root part wider than the
+# table) while 13 failed in some (2 to 19 of 20); the environment's reset retries those
+# (environment.RESET_ATTEMPTS).
+LAYOUT_DRAWS = 8
 
 
 def load(furniture: str | os.PathLike = DEFAULT_FURNITURE, robot: str = DEFAULT_ROBOT,
@@ -53,108 +36,110 @@ def load(furniture: str | os.PathLike = DEFAULT_FURNITURE, robot: str = DEFAULT_
   `furniture` is a catalog name (see furniture_names() and register_models()) or
   the path of a model file.
 
-  Options: time_limit (s; default 30 + 25 per part); control_timestep, physics_timestep (s);
-  connection_reward, completion_bonus; reward ("sparse" or "dense", tasks/rewards.py); distance_threshold (m), up_threshold
-  and forward_threshold (cosines); and the robot's own options (for the
-  cursor: move_speed, rotate_speed, grasp_margin, workspace, radius).
-  scale: the furniture's size factor (0.2 to 2, default 1): the same design built
-  that much smaller or larger from the same materials, lengths x scale, masses
-  x scale^3, inertias x scale^5, connectors with the parts; the default
-  distance_threshold scales with it (a given distance_threshold is in metres).
-  Arena: arena ("floor", or "work_table" for arms: a 0.75 m table in front of the robot,
-  which stands on a pedestal as high; base_pos's z is then measured from the table top).
-  Scene: scene (preset name), spread, preassembled, yaw_range, randomize;
-  images: cameras, camera_outputs, image_size, goal_image (README: "Observations, scenes and domain randomization").
-  Unknown names raise UnknownNameError listing the valid ones.
+  The options are the fields of config.TaskConfig (the task's: time_limit,
+  control_timestep, physics_timestep, reward, connection_reward, completion_bonus,
+  distance_threshold, up_threshold, forward_threshold, scale, arena, scene, spread,
+  preassembled, yaw_range, randomize, cameras, camera_outputs, image_size, goal_image)
+  and of the robot's config (config.CursorConfig for the Cursor, config.ArmConfig for
+  an arm); config.option_rows() lists each with its default and meaning. The resolved
+  configs are `env.task.config` and `env.task.robot.config`.
 
   Args:
     furniture: catalog name or model file path.
     robot: robot name (robot_names()).
-    seed: seed of the environment's random state; None draws a fresh one.
+    seed: seed of the environment's random state (0 to 2**32 - 1); None draws a fresh one.
     **options: the options above.
   Returns:
     The composer environment (dm_env API); `env.task` is the tasks.assembly.Assembly.
   Raises:
     UnknownNameError: an unknown furniture, robot or option name.
-    OptionValueError: an option value out of range or of the wrong kind.
+    OptionValueError: an option value out of range or of the wrong kind, or options that
+      cannot work together (a time step too large for the arm's servos, furniture that
+      does not fit the work table at that scale).
     ModelFormatError: a model file that breaks the format.
   """
+  config.furniture_argument(furniture)
+  seed = config.seed_argument(seed)
   path = catalog.path_of(furniture)
   robot_entry = registry.get(robot)
-  robot_keys = list(robot_entry.factory.option_defaults())
-  valid = (set(TASK_OPTIONS) | set(THRESHOLD_OPTIONS) | set(ENVIRONMENT_OPTIONS) | set(robot_keys)
-           | set(SCENE_OPTIONS) | set(FURNITURE_OPTIONS))
-  for key in options:
-    if key not in valid:
-      raise errors.UnknownNameError("option", key, valid)
-  _check_options(options)
-  scale = scaling.check_scale(options.get("scale", 1.0))
+  task_config, robot_config = _configs(robot_entry, options)
+  scale = task_config.scale
   path = scaling.scaled_path(path, scale)
-  thresholds = alignment.Thresholds(**{field: options[key] for key, field in THRESHOLD_OPTIONS.items()
-                                       if key in options})
-  if "distance_threshold" not in options and scale != 1.0:
-    thresholds = dataclasses.replace(thresholds, distance=thresholds.distance * scale)
-  def picked(names):
-    return {k: options[k] for k in names if k in options}
   furniture_prop = furniture_lib.Furniture(path, scale=scale)
-  robot_options = picked(robot_keys)
-  arena_kind = _arena_kind(options, robot_entry, robot_options)
-  robot_entity = robot_entry.factory(**robot_options)
-  arena = presets.make_arena(options.get("scene", "default"), arena_kind,
+  robot_entity = robot_entry.factory(config=robot_config, **_mount(task_config, robot_entry))
+  arena = presets.make_arena(task_config.scene, task_config.arena,
                              base_pose=getattr(robot_entity, "base_pose", None))
-  if robot_entity.reach_zone is not None:   # an arm: the same options, within its reach
-    initializer = arm_placement.reachable_parts(furniture_prop, robot_entity.reach_zone,
-                                                support=arena.support, **picked(placement.OPTIONS))
-  else:
-    initializer = placement.scattered_parts(furniture_prop, **picked(placement.OPTIONS))
-  task = assembly.Assembly(
-      arena=arena,
-      furniture=furniture_prop,
-      initializer=initializer,
-      robot=robot_entity,
-      thresholds=thresholds,
-      **{k: options[k] for k in TASK_OPTIONS if k in options})
-  randomization.attach(task, **picked(randomization.OPTIONS))
-  camera_observables.attach(task, **picked(camera_observables.OPTIONS))
-  time_limit = options.get("time_limit", default_time_limit(len(furniture_prop.parts)))
-  return environment.Environment(task, time_limit=time_limit, random_state=seed)
+  task = assembly.Assembly(arena=arena, furniture=furniture_prop, robot=robot_entity,
+                           config=task_config)
+  randomization.attach(task, task.config.randomize)
+  camera_observables.attach(task, task.config)
+  env = environment.Environment(task, time_limit=task.config.time_limit, random_state=seed)
+  _check_physics_timestep(env, robot)
+  _check_layout_fits(env, furniture_prop.name, scale)
+  return env
 
 
-def _arena_kind(options, robot_entry, robot_options):
-  """The `arena` option, checked; on the work table the arm's base_pos is raised onto its
-  pedestal (in `robot_options`), so the arm meets the table top as it meets the floor."""
-  kind = ranges.choice("arena", options.get("arena", "floor"), presets.ARENAS)
-  if kind == "work_table":
-    if "arm" not in robot_entry.tags:
-      raise errors.OptionValueError(
-          f"arena='work_table' is for the fixed-base arms ({', '.join(registry.names('arm'))}); "
-          f"the {robot_entry.name} scatters full-size furniture metres out, so use arena='floor'")
-    base = ranges.vector("base_pos", robot_options.get("base_pos", robot_entry.factory.BASE_POS),
-                         (3,))
-    robot_options["base_pos"] = base + [0.0, 0.0, work_table.TABLE_HEIGHT]
-  return kind
+def _configs(robot_entry, options):
+  """(config.TaskConfig, the robot's config) of load()'s options."""
+  task_names = config.TaskConfig.option_names()
+  robot_class = robot_entry.factory.CONFIG
+  robot_names = robot_class.option_names()
+  for key in options:
+    if key not in task_names and key not in robot_names:
+      raise errors.UnknownNameError("option", key, task_names + robot_names)
+  return (config.TaskConfig(**{k: v for k, v in options.items() if k in task_names}),
+          robot_class(**{k: v for k, v in options.items() if k in robot_names}))
 
 
-def _check_options(options):
-  """Range-checks the task and environment options (robots and scene modules check theirs)."""
-  given = dict(options)
-  if "distance_threshold" in given:
-    ranges.positive("distance_threshold", given["distance_threshold"])
-  for key in ("up_threshold", "forward_threshold"):
-    if key in given:
-      ranges.number(key, given[key], -1.0, 1.0, high_open=True)
-  for key in ("time_limit", "control_timestep", "physics_timestep"):
-    if key in given:
-      ranges.positive(key, given[key])
-  for key in ("connection_reward", "completion_bonus"):
-    if key in given:
-      ranges.number(key, given[key])
-  control = given.get("control_timestep", assembly.CONTROL_TIMESTEP)
-  physics = given.get("physics_timestep", physics_settings.TIMESTEP)
-  substeps = control / physics
-  if abs(substeps - round(substeps)) > 1e-6 or round(substeps) < 1:
+def _mount(task_config, robot_entry):
+  """The robot factory's keywords for the arena: on the work table an arm's base is raised
+  onto its pedestal, so the arm meets the table top as it meets the floor."""
+  if task_config.arena != "work_table":
+    return {}
+  if "arm" not in robot_entry.tags:
     raise errors.OptionValueError(
-        f"control_timestep ({control!r}) must be a whole multiple of physics_timestep ({physics!r})")
+        f"arena='work_table' is for the fixed-base arms ({', '.join(registry.names('arm'))}); "
+        f"the {robot_entry.name} scatters full-size furniture metres out, so use arena='floor'")
+  return {"mount_height": work_table.TABLE_HEIGHT}
+
+
+def _check_physics_timestep(env, robot):
+  """Refuses a physics time step too large for the robot's servos (it would diverge)."""
+  dt = env.task.config.physics_timestep
+  limit, why = env.task.robot.max_physics_timestep(env.physics)
+  if dt > limit:
+    raise errors.OptionValueError(
+        f"physics_timestep {dt!r} s is too large for the {robot}'s servos: at most "
+        f"{limit:.4f} s ({why}); MuJoCo integrates a servo's stiffness explicitly, and larger "
+        f"steps make the arm oscillate or diverge")
+
+
+def _check_layout_fits(env, name, scale):
+  """Refuses furniture whose parts do not fit on a bounded support (the work table) in
+  most of LAYOUT_DRAWS layouts, drawn from random states of its own; puts back what the
+  layouts move (the parts' state, and a static rack's pose in the model)."""
+  task = env.task
+  if not task.arena.support.bounded:
+    return
+  physics = env.physics
+  model, data = physics.model, physics.data
+  saved = (model.body_pos.copy(), model.body_quat.copy(), data.qpos.copy(), data.qvel.copy())
+  failures = []
+  try:
+    for draw in range(LAYOUT_DRAWS):
+      try:
+        task.initializer(physics, np.random.RandomState(draw))
+      except composer.EpisodeInitializationError as e:
+        failures.append(str(e))
+      if len(failures) > LAYOUT_DRAWS // 2:
+        depth, width = work_table.TABLE_SIZE
+        raise errors.OptionValueError(
+            f"{name} at scale {scale:g} does not fit on the work table ({depth:g} x {width:g} "
+            f"m): {failures[-1]} (its parts could not be laid out in {len(failures)} of "
+            f"{draw + 1} tries)")
+  finally:
+    model.body_pos[:], model.body_quat[:], data.qpos[:], data.qvel[:] = saved
+    physics.forward()
 
 
 def furniture_names(tag: str | None = None, min_parts: int | None = None,

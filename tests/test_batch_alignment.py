@@ -4,12 +4,13 @@ import jax
 import numpy as np
 import pytest
 
+from ikea_suite import config
 from ikea_suite import geometry
 from ikea_suite.batch import align
 from ikea_suite.batch import model as model_lib
 from ikea_suite.tasks import alignment
 
-THRESHOLDS = alignment.Thresholds()
+THRESHOLDS = alignment.Thresholds.of(config.TaskConfig().resolved(5, scattered=True))
 
 
 def random_frames(rng, num_connectors):

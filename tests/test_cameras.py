@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import ikea_suite
+from ikea_suite import config
 from ikea_suite import errors
 from ikea_suite.arenas import floor
 from ikea_suite.environment import Environment
@@ -169,7 +170,8 @@ def test_a_robot_can_contribute_named_cameras(gl):
   task = assembly.Assembly(arena=arena, furniture=furniture, robot=robot)
   assert set(camera_observables.named_cameras(arena, robot)) == {"front", "top", "side",
                                                                   "cursor_eye"}
-  camera_observables.attach(task, cameras=("cursor_eye", "top"), image_size=SIZE)
+  camera_observables.attach(task, config.TaskConfig(cameras=("cursor_eye", "top"),
+                                                    image_size=SIZE))
   env = Environment(task, time_limit=1.0, random_state=0)
   observation = env.reset().observation
   assert observation["cameras/cursor_eye_rgb"].shape == (SIZE, SIZE, 3)

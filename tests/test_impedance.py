@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import ikea_suite
-from ikea_suite.robots import arm_actuators
+from ikea_suite import config
 
 
 def _env(robot, seed=0):
@@ -52,7 +52,7 @@ def test_impedance_tracks_task_space_moves(robot):
 
 def test_impedance_yields_to_a_push_by_its_stiffness():
   # A steady push at the hand moves the tool by force / stiffness, whatever the arm's posture.
-  push, stiffness = 15.0, arm_actuators.IMPEDANCE_STIFFNESS[0]
+  push, stiffness = 15.0, config.IMPEDANCE_STIFFNESS[0]
   for axis in (0, 1, 2):
     env = _env("sawyer")
     arm = env.task.robot

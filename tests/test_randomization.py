@@ -4,12 +4,12 @@ import numpy as np
 import pytest
 
 import ikea_suite
+from ikea_suite import config
 from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.arenas import presets
 from ikea_suite.tasks import cameras
 from ikea_suite.tasks import placement
-from ikea_suite.tasks import randomization
 
 FURNITURE = ikea_suite.DEFAULT_FURNITURE
 
@@ -29,13 +29,14 @@ def _scene_snapshot(env):
 
 
 def test_parse_accepts_names_groups_and_dicts():
-  assert randomization.parse(None) == {}
-  assert randomization.parse("friction") == {"friction": (0.5, 1.5)}
-  assert set(randomization.parse("physics")) == set(randomization.PHYSICS_FACTORS)
-  assert set(randomization.parse(["visual", "gravity"])) == set(randomization.GROUPS["visual"]) | {
+  parse = config.randomization_factors
+  assert parse(None) == {}
+  assert parse("friction") == {"friction": (0.5, 1.5)}
+  assert set(parse("physics")) == set(config.PHYSICS_FACTORS)
+  assert set(parse(["visual", "gravity"])) == set(config.RANDOMIZATION_GROUPS["visual"]) | {
       "gravity"}
-  assert set(randomization.parse("all")) == set(randomization.FACTORS)
-  factors = randomization.parse({"light_count": (2, 3), "floor": True, "part_mass": None,
+  assert set(parse("all")) == set(config.RANDOMIZATION_FACTORS)
+  factors = parse({"light_count": (2, 3), "floor": True, "part_mass": None,
                                  "camera_jitter": False})
   assert factors == {"light_count": (2, 3), "floor": True}
 
@@ -121,7 +122,7 @@ def test_visual_factors_vary_within_their_ranges():
   for _ in range(6):
     env.reset()
     model = env.physics.model
-    assert model.nlight == randomization.MAX_LIGHTS
+    assert model.nlight == config.MAX_LIGHTS
     assert 2 <= model.light_active.sum() <= 3
     assert np.abs(model.cam_pos - plain.physics.model.cam_pos).max() <= 0.1 + 1e-9
     floors.add(int(model.geom_matid[floor_id]))

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import ikea_suite
+import ikea_suite.config
 
 
 def test_names_and_all():
@@ -80,7 +81,7 @@ def test_robot_options_reach_the_robot():
 def test_time_limit_scales_with_the_part_count():
   small = ikea_suite.load("stool_round_frosta", seed=0)
   large = ikea_suite.load("bookcase_shelf_unit_billy", seed=0)
-  assert small.time_limit == ikea_suite.suite.default_time_limit(len(small.task.furniture.parts))
+  assert small.time_limit == ikea_suite.config.default_time_limit(len(small.task.furniture.parts))
   assert small.time_limit < large.time_limit
   assert ikea_suite.load("stool_round_frosta", seed=0, time_limit=3.0).time_limit == 3.0
 

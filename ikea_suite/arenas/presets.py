@@ -9,8 +9,6 @@ import dataclasses
 
 import numpy as np
 
-from ikea_suite import errors
-from ikea_suite import options
 from ikea_suite.arenas import floor
 from ikea_suite.arenas import work_table
 
@@ -107,21 +105,15 @@ def names():
   return sorted(PRESETS)
 
 
-def make_arena(scene="default", arena="floor", base_pose=None):
+def make_arena(scene, arena, base_pose=None):
   """A FloorArena, or a WorkTableArena in front of `base_pose`, dressed as preset `scene`.
 
   Args:
-    scene: a preset name (names()).
-    arena: one of ARENAS.
+    scene: a preset name (names()), as config.TaskConfig checks it.
+    arena: one of ARENAS, as config.TaskConfig checks it.
     base_pose: (position (3,), rotation (3, 3)) of the robot base, which the work table
       stands in front of; needed for arena="work_table" only.
-  Raises:
-    UnknownNameError: an unknown scene.
-    OptionValueError: an arena not in ARENAS.
   """
-  if scene not in PRESETS:
-    raise errors.UnknownNameError("scene", scene, PRESETS)
-  options.choice("arena", arena, ARENAS)
   if arena == "work_table":
     pos, rot = base_pose
     arena = work_table.WorkTableArena(base_xy=pos[:2], base_yaw=np.arctan2(rot[1, 0], rot[0, 0]))

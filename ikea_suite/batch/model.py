@@ -55,7 +55,7 @@ class BatchModel:
     weld_eq: (welds,) equality id of each declared weld.
     geom_part, geom_pos, geom_rot, geom_center, geom_half: per collision geom of a part,
       its part, pose in the part frame, bounding-box centre and half size (geom frame);
-      grasp_margin (m) widens the boxes for grabbing, as the CPU cursor.
+      the Cursor's grasp_margin option (batch/settings.py) widens them for grabbing.
   """
   model: mujoco.MjModel
   spec: object
@@ -70,7 +70,6 @@ class BatchModel:
   geom_rot: np.ndarray
   geom_center: np.ndarray
   geom_half: np.ndarray
-  grasp_margin: float
 
   @property
   def num_parts(self):
@@ -152,7 +151,6 @@ def build(furniture):
   part_of_body = {int(b): i for i, b in enumerate(bodies)}
   geoms = [g for g in range(model.ngeom) if model.geom_bodyid[g] in part_of_body
            and (model.geom_contype[g] or model.geom_conaffinity[g])]
-  margin = cursor_lib.Cursor.option_defaults()["grasp_margin"]
   rot = np.array([_quat_mat(model.geom_quat[g]) for g in geoms])
   return BatchModel(
       model=model, spec=spec, table=table, welds=welds,
@@ -161,7 +159,7 @@ def build(furniture):
       geom_part=np.array([part_of_body[int(model.geom_bodyid[g])] for g in geoms], dtype=int),
       geom_pos=model.geom_pos[geoms].copy(), geom_rot=rot,
       geom_center=model.geom_aabb[geoms, :3].copy(),
-      geom_half=model.geom_aabb[geoms, 3:].copy(), grasp_margin=float(margin))
+      geom_half=model.geom_aabb[geoms, 3:].copy())
 
 
 def _quat_mat(quat):

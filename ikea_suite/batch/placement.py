@@ -35,14 +35,17 @@ class Scatter(typing.NamedTuple):
   yaw_range: float
 
 
-def scatter(spec, spread=0.9, clearance=0.15, gap=0.03, yaw_range=np.pi):
-  """Scatter constants for a FurnitureSpec, with ScatteredParts' defaults."""
+def scatter(spec, spread, yaw_range):
+  """Scatter constants for a FurnitureSpec: ring width `spread` (m) and largest |yaw|
+  `yaw_range` (rad), the options of a resolved config.TaskConfig; clearance and gap as
+  tasks/placement.ScatteredParts has them."""
   rest = [cpu_placement.resting_rotation(p.bounds) for p in spec.parts]
   corners = [geometry.box_corners(*p.bounds) for p in spec.parts]
   extent = [np.ptp(c @ r.T, axis=0).max() for c, r in zip(corners, rest)]
   order = tuple(int(i) for i in np.argsort(-np.array(extent), kind="stable"))
   return Scatter(order, np.array([rest[i] for i in order]), np.array([corners[i] for i in order]),
-                 cpu_placement.assembled_radius(spec) + clearance, spread, gap, yaw_range)
+                 cpu_placement.assembled_radius(spec) + cpu_placement.CLEARANCE, spread,
+                 cpu_placement.GAP, yaw_range)
 
 
 def place(scatter_constants, rng):

@@ -19,6 +19,7 @@ from typing import Any
 import tqdm
 
 import ikea_suite
+from ikea_suite import config
 from ikea_suite import environment
 from ikea_suite import errors
 from ikea_suite.datasets import experts
@@ -151,11 +152,11 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
   parser.add_argument("--episodes", type=int, default=10)
   parser.add_argument("--out", required=True, help="the .hdf5 file to write")
   parser.add_argument("--cameras", nargs="*", default=[], help="camera names, e.g. front")
-  parser.add_argument("--image-size", type=int, default=84)
+  parser.add_argument("--image-size", type=int, default=config.TaskConfig.image_size)
   parser.add_argument("--workers", type=int, default=min(os.cpu_count() or 1, 8))
   parser.add_argument("--seed", type=int, default=0, help="seed of the first episode")
   parser.add_argument("--time-limit", type=float, default=None, help="seconds of simulated time")
-  parser.add_argument("--reward", default="sparse", choices=("sparse", "dense"))
+  parser.add_argument("--reward", default=config.TaskConfig.reward, choices=config.REWARDS)
   parser.add_argument("--scale", type=float, default=None,
                       help="furniture size factor (arms: their WORK_SCALE, e.g. 0.5)")
   parser.add_argument("--valid-fraction", type=float, default=0.1)

@@ -20,6 +20,7 @@ import sys
 import h5py
 import numpy as np
 
+from ikea_suite import config
 from ikea_suite import environment
 from ikea_suite import errors
 from ikea_suite.datasets import hdf5
@@ -119,7 +120,7 @@ def main(argv: list[str] | None = None) -> int:
   parser.add_argument("--render", default=None, metavar="OUT.hdf5",
                       help="write a copy with images re-rendered during the replay")
   parser.add_argument("--cameras", nargs="*", default=["front"])
-  parser.add_argument("--image-size", type=int, default=84)
+  parser.add_argument("--image-size", type=int, default=config.TaskConfig.image_size)
   a = parser.parse_args(argv)
   try:
     reports = replay_file(a.file, a.render, tuple(a.cameras), a.image_size)

@@ -22,11 +22,11 @@ import gymnasium
 import numpy as np
 
 import ikea_suite
+from ikea_suite import config
 from ikea_suite import errors
 from ikea_suite.gym import spaces as spaces_lib
 
 RENDER_MODES = ("rgb_array",)
-_MAX_SEED = 2**32 - 1   # numpy's RandomState, which composer seeds, takes 32-bit seeds
 
 
 class ResetNeeded(errors.IkeaSuiteError, RuntimeError):
@@ -39,30 +39,40 @@ class AssemblyEnv(gymnasium.Env):
   Args:
     furniture: furniture model name (`ikea_suite.furniture_names()`).
     robot: robot name (`ikea_suite.robot_names()`).
-    render_mode: None or "rgb_array".
-    render_camera: arena camera drawn by `render()` ("front", "top" or "side").
-    render_size: (height, width) of `render()` frames, pixels.
+    render_mode, render_camera, render_size: the adapter's own options (config.GymConfig):
+      None or "rgb_array"; the arena camera `render()` draws ("front", "top" or "side");
+      (height, width) of its frames, pixels.
     **load_options: any option of `ikea_suite.load` (time_limit, reward, cameras, ...).
   Raises:
     UnknownNameError: an unknown render mode, render camera, or load() name.
-    OptionValueError: a load() option out of range.
+    OptionValueError: a load() option or render size out of range.
   """
 
   metadata = {"render_modes": list(RENDER_MODES), "render_fps": 20}
 
   def __init__(self, furniture: str = ikea_suite.DEFAULT_FURNITURE,
-               robot: str = ikea_suite.DEFAULT_ROBOT, render_mode: str | None = None,
-               render_camera: str = "front", render_size: tuple[int, int] = (240, 320),
+               robot: str = ikea_suite.DEFAULT_ROBOT,
+               render_mode: str | None = config.GymConfig.render_mode,
+               render_camera: str = config.GymConfig.render_camera,
+               render_size: tuple[int, int] = config.GymConfig.render_size,
                **load_options: Any):
-    if render_mode is not None and render_mode not in RENDER_MODES:
-      raise errors.UnknownNameError("render mode", render_mode, RENDER_MODES)
+    self.config = config.GymConfig(render_mode=render_mode, render_camera=render_camera,
+                                   render_size=render_size)
     self._env = ikea_suite.load(furniture, robot, **load_options)
-    cameras = self._env.task.arena.cameras
-    if render_camera not in cameras:
-      raise errors.UnknownNameError("camera", render_camera, cameras)
-    self.render_mode = render_mode
-    self._render_camera = self._env.physics.bind(cameras[render_camera]).element_id
-    self._render_size = tuple(int(x) for x in render_size)
+    physics = self._env.physics
+    self.render_mode = self.config.render_mode
+    self._render_camera = physics.bind(
+        self._env.task.arena.cameras[self.config.render_camera]).element_id
+    self._render_size = self.config.render_size
+    # MuJoCo's offscreen buffer bounds the frame: made room for in the MJCF (the first reset
+    # compiles it again) and in the model compiled now. No rendering context exists yet, so
+    # the one made at the first render has that room.
+    height, width = self._render_size
+    offscreen = getattr(self._env.task.arena.mjcf_model.visual, "global")
+    offscreen.offheight = max(height, offscreen.offheight or 480)
+    offscreen.offwidth = max(width, offscreen.offwidth or 640)
+    buffer = physics.model.vis.global_
+    buffer.offheight, buffer.offwidth = max(buffer.offheight, height), max(buffer.offwidth, width)
     self.metadata = dict(self.metadata, render_fps=round(1.0 / self._env.control_timestep()))
     self.observation_space = spaces_lib.dict_from_specs(self._env.observation_spec())
     self.action_space = spaces_lib.box_from_spec(self._env.action_spec())
@@ -93,11 +103,10 @@ class AssemblyEnv(gymnasium.Env):
       (observation, info).
 
     Raises:
-      OptionValueError: a seed out of range.
+      OptionValueError: a seed that is not a whole number in range.
       UnknownNameError: any reset option.
     """
-    if seed is not None and not 0 <= int(seed) <= _MAX_SEED:
-      raise errors.OptionValueError(f"seed must be in [0, {_MAX_SEED}], got {seed}")
+    seed = config.seed_argument(seed)
     if options:
       raise errors.UnknownNameError("reset option", next(iter(options)), ())
     super().reset(seed=seed)

@@ -19,37 +19,13 @@
 import mujoco
 import numpy as np
 
-from ikea_suite import errors
 from ikea_suite import geometry
-from ikea_suite import options
 from ikea_suite.robots import control_modes
 
-# Default Cartesian stiffness of impedance mode (load option `impedance_stiffness`):
-# 1500 N/m and 60 N m/rad, ten times libfranka's Cartesian impedance example (150 N/m,
-# 10 N m/rad, examples/cartesian_impedance_control.cpp, a soft hand-guiding setting) so
-# that a 1 kg part sags 6.5 mm and the tool settles within 2-3 mm of its target.
-# Damping is critical per axis at the home pose (critical_damping).
-IMPEDANCE_STIFFNESS = (1500.0, 60.0)
 # N m/rad per joint towards the home posture: small against the spring as felt at the
 # joints (hundreds of N m/rad), so the tool's steady error stays near a millimetre.
 POSTURE_STIFFNESS = 2.0
 _AXES = ("x", "y", "z")
-
-
-def impedance_stiffness(value, mode):
-  """The (N/m, N m/rad) Cartesian stiffness of impedance mode, from the load option
-  (None: the default); None in other modes, where giving it is an error."""
-  if mode != control_modes.IMPEDANCE:
-    if value is not None:
-      raise errors.OptionValueError(f"impedance_stiffness applies to control_mode='impedance' "
-                                    f"only, got control_mode={mode!r}")
-    return None
-  value = options.vector("impedance_stiffness", IMPEDANCE_STIFFNESS if value is None else value,
-                         (2,))
-  if not (value > 0).all():
-    raise errors.OptionValueError(f"impedance_stiffness must be two numbers > 0 "
-                                  f"(N/m, N m/rad), got {value.tolist()!r}")
-  return tuple(float(v) for v in value)
 
 
 def add(root, arm, mode, kp_per_nm, mount, home_q, stiffness):
@@ -57,7 +33,7 @@ def add(root, arm, mode, kp_per_nm, mount, home_q, stiffness):
 
   Impedance only: `mount` is the fixed body the target site sits on, `home_q`
   the arm's home joint angles the posture spring pulls towards, `stiffness`
-  the spring's (N/m, N m/rad).
+  the spring's (N/m, N m/rad; the option impedance_stiffness, config.ArmConfig).
   """
   if mode == control_modes.IMPEDANCE:
     return _impedance(root, arm, mount, home_q, stiffness)
@@ -99,6 +75,41 @@ def _impedance(root, arm, mount, home_q, stiffness):
       joint.stiffness = POSTURE_STIFFNESS
       joint.springref = angle
   return actuators
+
+
+# The largest physics time step an arm takes: MuJoCo integrates a position servo's
+# stiffness explicitly (implicitfast treats only damping implicitly), so a servo of
+# gain kp moving an effective mass m, natural frequency w = sqrt(kp / m), oscillates
+# unstably once w * dt exceeds 2 undamped (4.8 critically damped), and loses accuracy
+# well before. Measured with 100 random task-space actions (seed 0, scale 0.5): every
+# arm's joint speeds stayed at the default's (<= 2 rad/s, the IK's limit) up to
+# w * dt = 0.5 and grew beyond from about 0.7 (Baxter at 10 ms: 3.1 rad/s; Sawyer at
+# 25 ms: 18 rad/s, diverging at 50 ms). So dt <= 0.5 / w: 12.6 steps per period of the
+# stiffest servo. At the default 2 ms every arm has a margin of 3 or more (Baxter's
+# stiffest servo: 74 rad/s, 6.7 ms; Sawyer 8.4, Panda 11.6, Jaco 34 ms).
+SERVO_STEP_FRACTION = 0.5
+
+
+def stiffest_servo(physics, actuator_ids, qpos_index, q):
+  """The natural frequency (rad/s) and id of the stiffest position servo among
+  `actuator_ids` at joint angles `q` (written at `qpos_index` of a scratch copy of the
+  state), from its gain and the mass it moves: 1 / (moment M^-1 moment^T)."""
+  model = physics.model.ptr
+  data = mujoco.MjData(model)
+  data.qpos[qpos_index] = q
+  mujoco.mj_forward(model, data)
+  inertia = np.zeros((model.nv, model.nv))
+  mujoco.mj_fullM(model, data, inertia)
+  best = (0.0, -1)
+  for i in actuator_ids:
+    if model.actuator_biastype[i] != mujoco.mjtBias.mjBIAS_AFFINE:   # not a servo
+      continue
+    moment = np.zeros(model.nv)
+    start, count = data.moment_rowadr[i], data.moment_rownnz[i]
+    moment[data.moment_colind[start:start + count]] = data.actuator_moment[start:start + count]
+    mass = 1.0 / (moment @ np.linalg.solve(inertia, moment))
+    best = max(best, (float(np.sqrt(model.actuator_gainprm[i, 0] / mass)), int(i)))
+  return best
 
 
 def critical_damping(physics, actuator_ids, qpos_index, q):

@@ -1,7 +1,6 @@
 """What an assembly task needs from an agent, whatever its body."""
 
 import abc
-import inspect
 from typing import NamedTuple
 
 import numpy as np
@@ -31,12 +30,22 @@ class Robot(composer.Entity, abc.ABC):
 
   # Furniture scale (load(scale=...)) that fits this robot's reach; 1.0: full size.
   WORK_SCALE = 1.0
+  # The dataclass of the load() options this robot takes (config.CursorConfig,
+  # config.ArmConfig's subclass for an arm): their only defaults and checks.
+  CONFIG = None
 
-  @classmethod
-  def option_defaults(cls):
-    """The load() options this robot takes (its constructor keywords but `name`) -> defaults."""
-    params = inspect.signature(cls._build).parameters   # composer.Entity passes kwargs to _build
-    return {n: p.default for n, p in params.items() if n not in ("self", "name")}
+  @property
+  def config(self):
+    """The robot's options, as built (an instance of its CONFIG)."""
+    return self._config
+
+  def max_physics_timestep(self, physics):
+    """The largest physics time step this robot's actuators take in `physics` (compiled).
+
+    Returns:
+      (seconds, why): infinite and "" for a robot without servos (the Cursor).
+    """
+    return float("inf"), ""
 
   @property
   @abc.abstractmethod

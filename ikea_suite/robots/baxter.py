@@ -6,6 +6,7 @@ arms, right arm first: each arm's entries are prefixed `right_` / `left_`.
 
 import numpy as np
 
+from ikea_suite import config
 from ikea_suite.robots import arm_parts
 from ikea_suite.robots import grippers
 from ikea_suite.robots import manipulator
@@ -20,7 +21,7 @@ class Baxter(manipulator.Manipulator):
   """Two arms; actions: right arm's entries then left arm's (see control_modes)."""
 
   DEFAULT_NAME = "baxter"
-  BASE_POS = (-0.6, 0.0, 0.06)
+  CONFIG = config.BaxterConfig   # base_pos: the base's default position
   # The floor both hands reach tool down, from the IK (tool 1.5 cm over the floor, both
   # arms, 2026-11-26): straight ahead to 0.80-0.85 m, at 40 degrees and wider to 0.95;
   # beside the torso not within 0.55 m. With parts placed from 0.55 to 0.95 m, in 25 of

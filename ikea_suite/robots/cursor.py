@@ -11,9 +11,9 @@ import numpy as np
 from dm_control import composer
 from dm_control import mjcf
 
+from ikea_suite import config as config_lib
 from ikea_suite import fresh_observable
 from ikea_suite import geometry
-from ikea_suite import options
 from ikea_suite import physics_settings
 from ikea_suite.robots import base
 
@@ -26,16 +26,24 @@ HOME_POSITIONS = ((-0.4, 0.0, 0.6), (0.4, 0.0, 0.6))
 
 
 class Cursor(base.Robot):
-  """Two cursors; their poses live in physics state as slide + ball joints."""
+  """Two cursors; their poses live in physics state as slide + ball joints.
 
-  def _build(self, name="cursor", move_speed=0.5, rotate_speed=np.pi / 2, grasp_margin=0.02,
-             workspace=((-6.0, -6.0, 0.0), (6.0, 6.0, 3.0)), radius=0.025):
+  Args (to _build):
+    name: the MJCF model name.
+    config: a config.CursorConfig (None: the defaults), with any of its options given as
+      keywords replacing its values.
+  """
+
+  CONFIG = config_lib.CursorConfig
+
+  def _build(self, name="cursor", config=None, **options):
+    self._config = config = self.CONFIG.of(config, **options)
     self._mjcf_root = mjcf.RootElement(model=name)
-    self._move_speed = options.positive("move_speed", move_speed)
-    self._rotate_speed = options.positive("rotate_speed", rotate_speed)
-    self._grasp_margin = options.non_negative("grasp_margin", grasp_margin)
-    self._workspace = options.box("workspace", workspace)
-    radius = options.positive("radius", radius)
+    self._move_speed = config.move_speed
+    self._rotate_speed = config.rotate_speed
+    self._grasp_margin = config.grasp_margin
+    self._workspace = np.array(config.workspace, dtype=float)
+    radius = config.radius
     self._slides, self._balls = [], []
     for i in range(NUM_CURSORS):
       body = self._mjcf_root.worldbody.add("body", name=f"cursor{i}", gravcomp=1)

@@ -9,6 +9,7 @@ floor at (-0.45, 0, 0), facing +x.
 import numpy as np
 from dm_control.entities.manipulators import kinova
 
+from ikea_suite import config
 from ikea_suite import physics_settings
 from ikea_suite.robots import arm_parts
 from ikea_suite.robots import grippers
@@ -36,7 +37,7 @@ class Jaco(manipulator.Manipulator):
   """One 6-DoF arm; actions: see control_modes (7 per arm in task space, 7 in joint modes)."""
 
   DEFAULT_NAME = "jaco"
-  BASE_POS = (-0.45, 0.0, 0.0)
+  CONFIG = config.JacoConfig   # base_pos: the base's default position
   # Where parts may lie: the tool, pointing down, meets a part's centre on the floor to
   # 4 mm by IK out to 0.70 m ahead of the base and misses by 13 mm at 0.72 m (measured on
   # the compiled model, TCP at the pinch depth: the hand puts it 0.19 m past the wrist).

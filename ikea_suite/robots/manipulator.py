@@ -11,10 +11,9 @@ import copy
 import mujoco
 import numpy as np
 
-from ikea_suite import errors
+from ikea_suite import config as config_lib
 from ikea_suite import geometry
 from ikea_suite import mujoco_arrays
-from ikea_suite import options
 from ikea_suite import physics_settings
 from ikea_suite.robots import arm_actuators
 from ikea_suite.robots import base
@@ -33,7 +32,9 @@ class Manipulator(work_area.WorkArea, base.Robot):
   work_area.WorkArea for where the task lays its parts."""
 
   DEFAULT_NAME = "manipulator"
-  BASE_POS = (-0.55, 0.0, 0.0)   # world position of the base, facing +x
+  # The arm's load() options (base_pos: the world position of its base, facing +x); each
+  # arm's subclass of config.ArmConfig sets its own base position.
+  CONFIG = config_lib.ArmConfig
   # Furniture scale that fits this arm's reach (load(scale=...)): at 0.5 a 55 cm table
   # top is 27.5 cm and every part of the small furniture lies within REACH on the work
   # area in front of the base, the way FurnitureBench assembles miniature furniture.
@@ -46,22 +47,26 @@ class Manipulator(work_area.WorkArea, base.Robot):
   # which most of the work area is out of reach though it was reachable from home.
   IK_WORKING_RANGES = {}
 
-  def _build(self, name=None, control_mode="task_space", max_translation=0.025,
-             max_rotation=0.15, base_pos=None, base_yaw=0.0, wrist_camera=False,
-             camera_size=(84, 84), impedance_stiffness=None):
-    self._mode = control_modes.check(control_mode)
-    max_translation = options.positive("max_translation", max_translation)
-    max_rotation = options.positive("max_rotation", max_rotation)
-    self._base_pos = options.vector("base_pos", self.BASE_POS if base_pos is None else base_pos, (3,))
-    self._base_rot = geometry.rot_z(options.number("base_yaw", base_yaw))
-    options.choice("wrist_camera", wrist_camera, (True, False))
-    camera_size = options.vector("camera_size", camera_size, (2,))
-    if (camera_size < 1).any() or (camera_size != np.round(camera_size)).any():
-      raise errors.OptionValueError(f"camera_size must be two whole numbers of pixels >= 1, "
-                                    f"got {camera_size.tolist()!r}")
-    camera_size = tuple(int(v) for v in camera_size)
+  def _build(self, name=None, config=None, mount_height=0.0, **options):
+    """Builds the arm.
+
+    Args:
+      name: the MJCF model name (default DEFAULT_NAME).
+      config: the arm's options (its CONFIG; None: the defaults), with any of them given as
+        keywords replacing its values.
+      mount_height: how far (m) the base is raised above base_pos: the work table's
+        pedestal (arenas/work_table.py), so base_pos's z is measured from the table top.
+    """
+    self._config = config = self.CONFIG.of(config, **options)
+    self._mode = config.control_mode
+    max_translation, max_rotation = config.max_translation, config.max_rotation
+    self._base_pos = np.array(config.base_pos, dtype=float)
+    if mount_height:
+      self._base_pos = self._base_pos + [0.0, 0.0, mount_height]
+    self._base_rot = geometry.rot_z(config.base_yaw)
+    wrist_camera, camera_size = config.wrist_camera, config.camera_size
     self._mjcf_root, self._arms = self._build_body(name or self.DEFAULT_NAME)
-    stiffness = arm_actuators.impedance_stiffness(impedance_stiffness, self._mode)
+    stiffness = config.impedance_stiffness
     tcp_sites = [arm.gripper.tcp_site for arm in self._arms]
     arm_joints = [j for arm in self._arms for j in arm.joints]
     working = {arm.joints[j]: r for arm in self._arms for j, r in self.IK_WORKING_RANGES.items()}
@@ -230,6 +235,18 @@ class Manipulator(work_area.WorkArea, base.Robot):
       arm_actuators.critical_damping(physics, self._arm_act.ravel(), self._ik_to_qpos, self._home_q)
     physics_settings.configure_pads(
         physics.model, bind([g for a in self._arms for g in a.gripper.pad_geoms]).element_id)
+
+  def max_physics_timestep(self, physics):
+    """The largest physics time step the arm's servos take (arm_actuators.SERVO_STEP_FRACTION
+    of a period of the stiffest, at the home pose), and why."""
+    ids = np.concatenate([self._arm_act.ravel(), self._finger_act.ravel()])
+    omega, actuator = arm_actuators.stiffest_servo(physics, ids, self._ik_to_qpos, self._home_q)
+    if actuator < 0:
+      return float("inf"), ""
+    name = physics.model.id2name(actuator, "actuator")
+    return arm_actuators.SERVO_STEP_FRACTION / omega, (
+        f"{arm_actuators.SERVO_STEP_FRACTION} / {omega:.0f} rad/s, the natural frequency of "
+        f"its stiffest servo ({name}) at home")
 
   def home_tcp_poses(self):
     """World poses of every tool-centre point at the home configuration."""

@@ -7,6 +7,7 @@ the box bounding its visual mesh.
 
 import numpy as np
 
+from ikea_suite import config
 from ikea_suite.robots import arm_parts
 from ikea_suite.robots import grippers
 from ikea_suite.robots import manipulator
@@ -20,7 +21,7 @@ class Panda(manipulator.Manipulator):
   """One 7-DoF arm; actions: see control_modes."""
 
   DEFAULT_NAME = "panda"
-  BASE_POS = (-0.5, 0.0, 0.0)
+  CONFIG = config.PandaConfig   # base_pos: the base's default position
   # Tool down 3 cm above the floor the hand reaches 0.8 m only fully stretched (6 mm short);
   # a 0.72 m band spilled a quarter of the full-size Lack's parts outwards, past reach.
   REACH = 0.8

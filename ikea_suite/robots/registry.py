@@ -27,6 +27,10 @@ def register(name, factory, tags=()):
 
 
 def get(name):
+  """The RobotEntry of robot `name`; UnknownNameError lists the valid names."""
+  if not isinstance(name, str):
+    raise errors.OptionValueError(f"robot must be a robot name (str), got {name!r}; valid: "
+                                  f"{', '.join(sorted(_ROBOTS))}")
   if name not in _ROBOTS:
     raise errors.UnknownNameError("robot", name, _ROBOTS)
   return _ROBOTS[name]

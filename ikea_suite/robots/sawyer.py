@@ -5,6 +5,7 @@ the origin). Colours follow the real robot: red links, white and dark trim.
 """
 
 
+from ikea_suite import config
 from ikea_suite.robots import arm_parts
 from ikea_suite.robots import grippers
 from ikea_suite.robots import manipulator
@@ -19,7 +20,7 @@ class Sawyer(manipulator.Manipulator):
   """One 7-DoF arm; actions: see control_modes (7 per arm in task space, 8 in joint modes)."""
 
   DEFAULT_NAME = "sawyer"
-  BASE_POS = (-0.55, 0.0, 0.0)
+  CONFIG = config.SawyerConfig   # base_pos: the base's default position
   REACH = 0.85
   # Shoulder forward, elbow up (limits: j0 +-3.05, j1 -3.81..2.27, j2 +-3.04, j3 +-3.04).
   # Measured over 150 random tool-down poses in the work sector, IK from home solves 108

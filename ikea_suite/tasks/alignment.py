@@ -17,10 +17,18 @@ import numpy as np
 
 @dataclasses.dataclass(frozen=True)
 class Thresholds:
-  """Defaults: 2 cm apart, up axes within ~8 degrees, forward axes within ~8 degrees."""
-  distance: float = 0.02
-  up_cos: float = 0.99
-  forward_cos: float = 0.99
+  """Attachable when closer than `distance` (m) and the axes' cosines exceed `up_cos` and
+  `forward_cos`; the options distance_threshold, up_threshold and forward_threshold
+  (config.TaskConfig, whose defaults are 2 cm at scale 1 and ~8 degrees)."""
+  distance: float
+  up_cos: float
+  forward_cos: float
+
+  @classmethod
+  def of(cls, task_config):
+    """The thresholds of a resolved config.TaskConfig."""
+    return cls(distance=task_config.distance_threshold, up_cos=task_config.up_threshold,
+               forward_cos=task_config.forward_threshold)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -66,7 +66,7 @@ class ReachableParts(placement.PartInitializer):
     sector: half-angle (rad) either side of the base's heading that parts lie within.
     spread: width of the band (m) parts are drawn from; None: from min_distance to reach.
     yaw_range: largest |yaw| (rad) of a part about its resting pose.
-    preassembled: connections made before the episode (int or (low, high)).
+    preassembled: the (low, high) range of connections made before the episode.
     support: the arenas.support.Support the parts lie on (default: the floor).
     arms: the robot's arms; with two, the loose parts alternate between the halves of the
       sector either side of the heading (the first half drawn at random), so each arm
@@ -78,9 +78,9 @@ class ReachableParts(placement.PartInitializer):
   """
 
   def __init__(self, furniture, base_xy, base_rot, reach, min_distance, root_distance, sector,
-               inner=0.2, gap=0.03, root_jitter=(0.03, np.radians(15)), max_attempts=200,
-               spread=None, yaw_range=np.pi, preassembled=0, support=support_lib.FLOOR, arms=1,
-               side_reach=None):
+               spread, yaw_range, preassembled, support=support_lib.FLOOR, arms=1,
+               side_reach=None, inner=0.2, gap=0.03, root_jitter=(0.03, np.radians(15)),
+               max_attempts=200):
     self._furniture = furniture
     self._arms, self._side_reach = arms, side_reach
     self._support = support
@@ -100,7 +100,7 @@ class ReachableParts(placement.PartInitializer):
             f"{reach} m from its base, so spread must be at most {room:.2f} m")
       self._reach = min_distance + spread
     self._yaw_range = float(yaw_range)
-    self._groups = placement.ScatteredParts(furniture, preassembled=preassembled)
+    self._groups = placement.PartGroups(furniture, preassembled)
     spec = furniture.spec
     self._root = planner.root_part(spec)
     rest = placement.resting_rotation(spec.parts[self._root].bounds)
@@ -253,29 +253,10 @@ class ReachableParts(placement.PartInitializer):
             f"no room{where} for a part of radius {radius:.2f} m; use a smaller scale")
 
 
-def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preassembled=0,
-                    support=support_lib.FLOOR):
-  """ReachableParts from load()'s placement options for an arm's `reach_zone`.
-
-  Args:
-    furniture: the Furniture prop.
-    reach_zone: the robots.base.ReachZone the arm states.
-    spread: width (m) of the band parts lie in; None: all the reach allows.
-    yaw_range: largest |yaw| (rad) of a part.
-    preassembled: connections made before the episode (int or (low, high)).
-    support: the arenas.support.Support parts lie on (the arena's `support`).
-  Returns:
-    A ReachableParts initializer.
-  Raises:
-    OptionValueError: a bad value, or a spread beyond the arm's reach.
-  """
-  for name, value in (("spread", spread), ("yaw_range", yaw_range)):
-    if name == "spread" and value is None:
-      continue
-    if not placement.is_number(value) or not 0 <= value < np.inf:
-      raise errors.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
+def for_reach_zone(furniture, reach_zone, support, spread, yaw_range, preassembled):
+  """ReachableParts for an arm's `reach_zone` (robots.base.ReachZone), on `support`, with
+  the placement options of a config.TaskConfig (spread None: the whole band)."""
   return ReachableParts(furniture, reach_zone.base_xy, reach_zone.base_rot, reach_zone.reach,
                         reach_zone.min_distance, reach_zone.root_distance, reach_zone.sector,
-                        spread=spread, yaw_range=float(yaw_range), preassembled=preassembled,
-                        support=support, arms=reach_zone.arms,
-                        side_reach=reach_zone.side_reach)
+                        spread=spread, yaw_range=yaw_range, preassembled=preassembled,
+                        support=support, arms=reach_zone.arms, side_reach=reach_zone.side_reach)

@@ -3,8 +3,10 @@
 
 import numpy as np
 from dm_control import composer
+from dm_control.composer.variation import distributions
 from dm_env import specs
 
+from ikea_suite import config as config_lib
 from ikea_suite import errors
 from ikea_suite import fresh_observable
 from ikea_suite import geometry
@@ -20,7 +22,6 @@ from ikea_suite.tasks import rewards
 from ikea_suite.tasks import welds
 
 CONNECT_ACTION = "connect"
-CONTROL_TIMESTEP = 0.05   # s: 20 Hz, as the paper's environment
 # How deep (m) a connection may push the moving group into the floor or into a
 # part of another group. Deeper and the connection is refused: snapping moves a
 # part by up to the distance threshold about a connector, which at the far end
@@ -45,14 +46,22 @@ class Assembly(composer.Task):
   Reward: `connection_reward` for each new connection plus `completion_bonus`
   when the last part joins, which also ends the episode (discount 0).
   With `reward="dense"`, staged shaping instead (tasks/rewards.py).
+
+  Args:
+    arena, furniture, robot: the entities.
+    config: the task's options (config.TaskConfig; None: the defaults), resolved here for
+      this furniture and robot and kept as `config`.
+    initializer: a placement.PartInitializer; None: `part_layout`'s for the robot.
   """
 
-  def __init__(self, arena, furniture, robot, thresholds=alignment.Thresholds(),
-               control_timestep=CONTROL_TIMESTEP, physics_timestep=physics_settings.TIMESTEP,
-               connection_reward=1.0, completion_bonus=10.0, initializer=None, reward="sparse"):
+  def __init__(self, arena, furniture, robot, config=None, initializer=None):
     self._arena, self._furniture, self._robot = arena, furniture, robot
+    config = (config_lib.TaskConfig() if config is None else config).resolved(
+        len(furniture.parts), scattered=robot.reach_zone is None)
+    self._config = config
     physics_settings.configure_arena(arena.mjcf_model)
-    self._thresholds = thresholds
+    self._thresholds = alignment.Thresholds.of(config)
+    connection_reward, completion_bonus = config.connection_reward, config.completion_bonus
     self._connection_reward, self._completion_bonus = connection_reward, completion_bonus
     furniture.attach_to(arena)
     robot.mount(arena)
@@ -63,12 +72,11 @@ class Assembly(composer.Task):
     self._root = planner.root_part(furniture.spec)
     self._order = sequence.assembly_order(furniture.spec, self._root)
     self._design_pairs = placement.design_pairs(furniture.spec, self._table)
-    self.set_timesteps(control_timestep=control_timestep, physics_timestep=physics_timestep)
+    self.set_timesteps(control_timestep=config.control_timestep,
+                       physics_timestep=config.physics_timestep)
     robot.bind_scene(arena, furniture, self._state, self.control_timestep)
-    if initializer is None:   # a fixed-base arm keeps parts within its reach
-      initializer = (placement.ScatteredParts(furniture) if robot.reach_zone is None
-                     else arm_placement.reachable_parts(furniture, robot.reach_zone,
-                                                        support=arena.support))
+    if initializer is None:
+      initializer = part_layout(furniture, robot, arena.support, config)
     if not isinstance(initializer, placement.PartInitializer):
       raise errors.IkeaSuiteError(
           f"initializer must be a placement.PartInitializer (it names the pairs it placed "
@@ -81,7 +89,8 @@ class Assembly(composer.Task):
     self._step_reward = 0.0
     self._blocked = ()
     self._suggestion_key = None
-    self._dense = rewards.make(reward, self, connection_reward, completion_bonus)  # None: sparse
+    self._dense = rewards.make(config.reward, self, connection_reward,
+                               completion_bonus)  # None: sparse
     self._task_observables = {
         "connections": fresh_observable.FreshGeneric(lambda physics: self._state.adjacency.copy()),
         "connectors_used": fresh_observable.FreshGeneric(
@@ -184,6 +193,11 @@ class Assembly(composer.Task):
   @property
   def thresholds(self):
     return self._thresholds
+
+  @property
+  def config(self):
+    """The task's options, resolved for this furniture and robot (config.TaskConfig)."""
+    return self._config
 
   @property
   def connection_reward(self):
@@ -347,3 +361,23 @@ class Assembly(composer.Task):
                              rot[part_b])
       state.close_loop(part_a, part_b, con_a, con_b)
 
+
+def part_layout(furniture, robot, support, config):
+  """How the parts lie at the start of an episode, the one place it is chosen: scattered
+  in a ring around the furniture for a robot that reaches everywhere (the Cursor), within
+  its reach for a fixed-base arm (its `reach_zone`).
+
+  Args:
+    furniture: the Furniture prop.
+    robot: the robot entity.
+    support: the arenas.support.Support the parts lie on.
+    config: the resolved config.TaskConfig (spread, yaw_range, preassembled).
+  Returns:
+    A placement.PartInitializer.
+  """
+  if robot.reach_zone is None:
+    return placement.ScatteredParts(
+        furniture, spread=config.spread, preassembled=config.preassembled,
+        yaw=distributions.Uniform(-config.yaw_range, config.yaw_range))
+  return arm_placement.for_reach_zone(furniture, robot.reach_zone, support, config.spread,
+                                      config.yaw_range, config.preassembled)

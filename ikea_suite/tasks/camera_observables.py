@@ -13,12 +13,10 @@ from dm_control import mjcf
 from dm_control.composer.observation import observable
 from dm_env import specs
 
+from ikea_suite import config
 from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.tasks import cameras
-
-OUTPUTS = cameras.IMAGE_KINDS + ("part_boxes",)
-MAX_IMAGE_SIZE = 2048
 
 
 def named_cameras(arena, robot):
@@ -29,17 +27,6 @@ def named_cameras(arena, robot):
       raise errors.IkeaSuiteError(f"robot camera {name!r} clashes with an arena camera")
     named[name] = element
   return named
-
-
-def image_shape(image_size):
-  """(height, width) from an int or a pair; raises OptionValueError otherwise."""
-  size = (image_size, image_size) if np.isscalar(image_size) else tuple(image_size)
-  if (len(size) != 2 or not all(isinstance(s, (int, np.integer)) for s in size)
-      or not all(1 <= s <= MAX_IMAGE_SIZE for s in size)):
-    raise errors.OptionValueError(
-        f"image_size must be an int or (height, width) of ints in 1..{MAX_IMAGE_SIZE}, "
-        f"got {image_size!r}")
-  return int(size[0]), int(size[1])
 
 
 class _SpecObservable(observable.Generic):
@@ -57,27 +44,20 @@ class _SpecObservable(observable.Generic):
 class CameraRig(composer.Entity):
   """Renders the chosen cameras; one instance per environment."""
 
-  def _build(self, arena, furniture, robot, cameras=(), outputs=("rgb",), image_size=84,
-             goal_image=False):
+  def _build(self, arena, furniture, robot, cameras, outputs, image_size, goal_image):
+    """`cameras`, `outputs` (names), `image_size` ((height, width), px) and `goal_image`:
+    the checked options of a config.TaskConfig."""
     available = named_cameras(arena, robot)
-    cameras = (cameras,) if isinstance(cameras, str) else tuple(cameras)
-    outputs = (outputs,) if isinstance(outputs, str) else tuple(outputs)
     for name in cameras:
       if name not in available:
         raise errors.UnknownNameError("camera", name, available)
-    for kind in outputs:
-      if kind not in OUTPUTS:
-        raise errors.UnknownNameError("camera output", kind, OUTPUTS)
-    if not cameras or not outputs:
-      raise errors.OptionValueError(
-          f"a camera rig needs cameras and outputs, got cameras={cameras!r} outputs={outputs!r}")
     self._mjcf_root = mjcf.RootElement(model="cameras")
     self._arena, self._furniture, self._robot = arena, furniture, robot
     self._elements = {name: available[name] for name in cameras}
     self._kinds = tuple(k for k in cameras_kinds(outputs))
     self._boxes = "part_boxes" in outputs
     self._goal = bool(goal_image) and bool(self._kinds)
-    self._height, self._width = image_shape(image_size)
+    self._height, self._width = image_size
     # MuJoCo's offscreen buffer bounds the image size.
     offscreen = getattr(arena.mjcf_model.visual, "global")
     offscreen.offwidth = max(self._width, offscreen.offwidth or 640)
@@ -192,20 +172,16 @@ class CameraRig(composer.Entity):
 
 def cameras_kinds(outputs):
   """The image kinds among `outputs`, in canonical order."""
-  return [kind for kind in cameras.IMAGE_KINDS if kind in outputs]
+  return [kind for kind in config.IMAGE_KINDS if kind in outputs]
 
 
-OPTIONS = ("cameras", "camera_outputs", "image_size", "goal_image")
-
-
-def attach(task, cameras=(), camera_outputs=("rgb",), image_size=84, goal_image=False):
-  """Attaches a CameraRig to the task's arena when cameras are chosen; returns it or None."""
-  if isinstance(cameras, str):
-    cameras = (cameras,)
-  image_shape(image_size)   # checked even when no camera is chosen
-  if not cameras:
+def attach(task, task_config):
+  """Attaches a CameraRig to the task's arena when the config (config.TaskConfig) chooses
+  cameras; returns it or None."""
+  if not task_config.cameras:
     return None
-  rig = CameraRig(task.arena, task.furniture, task.robot, cameras=cameras, outputs=camera_outputs,
-                  image_size=image_size, goal_image=goal_image)
+  rig = CameraRig(task.arena, task.furniture, task.robot, cameras=task_config.cameras,
+                  outputs=task_config.camera_outputs, image_size=task_config.image_size,
+                  goal_image=task_config.goal_image)
   task.arena.attach(rig)
   return rig

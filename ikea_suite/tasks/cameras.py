@@ -1,6 +1,6 @@
 """Rendering for image observations: RGB, depth and part segmentation in few GL passes.
 
-Segmentation pixels hold labels, not MuJoCo ids: part k of the furniture is
+The kinds are config.IMAGE_KINDS. Segmentation pixels hold labels, not MuJoCo ids: part k of the furniture is
 k (0..n-1), and the rest of the scene uses the negative ids below.
 """
 
@@ -11,8 +11,6 @@ from dm_control.mujoco import engine
 BACKGROUND_ID = -1   # sky, backdrop walls, anything that is not floor, robot or a part
 FLOOR_ID = -2        # the arena's floor plane
 ROBOT_ID = -3        # every geom of the robot entity (and entities attached to it)
-
-IMAGE_KINDS = ("rgb", "depth", "segmentation")
 
 
 def segmentation_labels(physics, furniture, robot, floor):

@@ -4,11 +4,11 @@ import abc
 
 import numpy as np
 from dm_control import composer
-from dm_control.composer.variation import distributions
 
-from ikea_suite import errors
 from ikea_suite import geometry
 
+CLEARANCE = 0.15   # m from the assembled furniture's radius to the ring parts lie in
+GAP = 0.03         # m, least gap between two placed parts
 _LIE_FLAT = {0: np.array([[0.0, 0, -1], [0, 1, 0], [1, 0, 0]]),   # part x axis to world z
              1: np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]]),   # part y axis to world z
              2: np.eye(3)}
@@ -42,28 +42,20 @@ class PartInitializer(composer.Initializer, abc.ABC):
     return []
 
 
-class ScatteredParts(PartInitializer):
-  """Places parts lying flat, random yaw, in a ring around the origin without overlap.
+class PartGroups:
+  """What an initializer places each episode: single parts lying flat and, for the
+  curriculum, groups of parts already connected.
 
-  The ring starts `clearance` beyond the assembled furniture's radius and is
-  `spread` metres wide (wider when too crowded to fit every part); `yaw` is
-  a dm_control distribution (radians).
-
-  Curriculum: `preassembled` (an int, or an inclusive (low, high) range drawn
-  each episode) connections are made before the episode starts. They are a
-  random forest of the connections of the assembled design; each resulting
-  group keeps its assembled shape, upright, and is scattered like a part.
-  The count is capped at parts - 2 so at least one connection remains. The
-  chosen connector pairs are left in `preassembled_pairs` for the task to weld.
+  `preassembled` is an inclusive (low, high) range of connection counts drawn each
+  episode. The connections are a random forest of the connections of the assembled
+  design; each resulting group keeps its assembled shape, upright. The count is capped at
+  parts - 2 so at least one connection remains. The chosen connector pairs are left in
+  `preassembled_pairs` for the task to weld.
   """
 
-  def __init__(self, furniture, spread=0.9, clearance=0.15, gap=0.03,
-               yaw=distributions.Uniform(-np.pi, np.pi), max_attempts=500, preassembled=0):
+  def __init__(self, furniture, preassembled):
     self._furniture = furniture
-    self._spread, self._gap, self._yaw = spread, gap, yaw
-    self._inner = assembled_radius(furniture.spec) + clearance
-    self._max_attempts = max_attempts
-    self._preassembled = preassembled_range(preassembled)
+    self._preassembled = tuple(preassembled)
     self._design_pairs = design_pairs(furniture.spec, furniture.connectors)
     self._preassembled_pairs = []
 
@@ -71,22 +63,6 @@ class ScatteredParts(PartInitializer):
   def preassembled_pairs(self):
     """Connector pairs (indices into the furniture's table) placed mated this episode."""
     return list(self._preassembled_pairs)
-
-  def __call__(self, physics, random_state):
-    placed = []   # (xy, radius)
-    for item in self.draw_items(random_state):
-      yaw_rot = geometry.rot_z(self._yaw(random_state=random_state))
-      rots = [yaw_rot @ rot for _, rot, _ in item]
-      offsets = [yaw_rot @ pos for _, _, pos in item]
-      corners = np.concatenate([geometry.box_corners(*self._spec(i).bounds) @ rot.T + offset
-                                for (i, _, _), rot, offset in zip(item, rots, offsets)])
-      center_xy = (corners[:, :2].max(0) + corners[:, :2].min(0)) / 2
-      radius = np.linalg.norm(corners[:, :2] - center_xy, axis=1).max()
-      xy = self._sample_xy(random_state, radius, placed)
-      placed.append((xy, radius))
-      shift = np.array([*(xy - center_xy), -corners[:, 2].min() + 1e-3])
-      for (index, _, _), rot, offset in zip(item, rots, offsets):
-        self._furniture.set_part_pose(physics, index, offset + shift, geometry.mat_to_quat(rot))
 
   def _spec(self, index):
     return self._furniture.spec.parts[index]
@@ -132,6 +108,47 @@ class ScatteredParts(PartInitializer):
         self._preassembled_pairs.append(int(pair))
     return [[i for i in range(num_parts) if group[i] == g] for g in sorted(set(group))]
 
+
+class ScatteredParts(PartInitializer):
+  """Places parts lying flat, random yaw, in a ring around the origin without overlap.
+
+  The ring starts CLEARANCE beyond the assembled furniture's radius and is
+  `spread` metres wide (wider when too crowded to fit every part); `yaw` is
+  a dm_control distribution (radians). `preassembled`: the (low, high) range of
+  connections made before the episode (PartGroups); each group is scattered like a part.
+  """
+
+  def __init__(self, furniture, spread, preassembled, yaw, max_attempts=500):
+    self._furniture = furniture
+    self._spread, self._gap, self._yaw = spread, GAP, yaw
+    self._inner = assembled_radius(furniture.spec) + CLEARANCE
+    self._max_attempts = max_attempts
+    self._groups = PartGroups(furniture, preassembled)
+
+  @property
+  def preassembled_pairs(self):
+    """Connector pairs (indices into the furniture's table) placed mated this episode."""
+    return self._groups.preassembled_pairs
+
+  def __call__(self, physics, random_state):
+    placed = []   # (xy, radius)
+    for item in self._groups.draw_items(random_state):
+      yaw_rot = geometry.rot_z(self._yaw(random_state=random_state))
+      rots = [yaw_rot @ rot for _, rot, _ in item]
+      offsets = [yaw_rot @ pos for _, _, pos in item]
+      corners = np.concatenate([geometry.box_corners(*self._spec(i).bounds) @ rot.T + offset
+                                for (i, _, _), rot, offset in zip(item, rots, offsets)])
+      center_xy = (corners[:, :2].max(0) + corners[:, :2].min(0)) / 2
+      radius = np.linalg.norm(corners[:, :2] - center_xy, axis=1).max()
+      xy = self._sample_xy(random_state, radius, placed)
+      placed.append((xy, radius))
+      shift = np.array([*(xy - center_xy), -corners[:, 2].min() + 1e-3])
+      for (index, _, _), rot, offset in zip(item, rots, offsets):
+        self._furniture.set_part_pose(physics, index, offset + shift, geometry.mat_to_quat(rot))
+
+  def _spec(self, index):
+    return self._furniture.spec.parts[index]
+
   def _sample_xy(self, random_state, radius, placed):
     centres = np.array([xy for xy, _ in placed]).reshape(-1, 2)
     radii = np.array([r for _, r in placed])
@@ -152,34 +169,8 @@ class ScatteredParts(PartInitializer):
 _BATCH = 100   # candidate positions drawn at once; the ring widens after each batch
 
 
-def preassembled_range(preassembled):
-  """(low, high) connection counts from an int or a pair; raises OptionValueError otherwise."""
-  pair = (preassembled, preassembled) if np.isscalar(preassembled) else tuple(preassembled)
-  if (len(pair) != 2 or not all(isinstance(v, (int, np.integer)) for v in pair)
-      or not 0 <= pair[0] <= pair[1]):
-    raise errors.OptionValueError(
-        f"preassembled must be a count >= 0 or a (low, high) range of counts, got {preassembled!r}")
-  return int(pair[0]), int(pair[1])
-
-
 def design_pairs(spec, table):
   """Indices into `table`'s candidate pairs of those that coincide in the assembled design."""
   assembled = set(spec.assembled_connector_pairs())
   return np.array([k for k, pair in enumerate(zip(table.pair_a, table.pair_b))
                    if tuple(int(c) for c in pair) in assembled], dtype=int)
-
-
-OPTIONS = ("spread", "preassembled", "yaw_range")
-
-
-def scattered_parts(furniture, spread=0.9, preassembled=0, yaw_range=np.pi):
-  """ScatteredParts from load() options: ring width (m), curriculum count, largest |yaw| (rad)."""
-  for name, value in (("spread", spread), ("yaw_range", yaw_range)):
-    if not is_number(value) or not 0 <= value < np.inf:
-      raise errors.OptionValueError(f"{name} must be a number >= 0, got {value!r}")
-  return ScatteredParts(furniture, spread=float(spread), preassembled=preassembled,
-                        yaw=distributions.Uniform(-float(yaw_range), float(yaw_range)))
-
-
-def is_number(value):
-  return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)

@@ -4,9 +4,9 @@
 dm_control variations (`composer.variation`) to MJCF elements and applies
 them through a `PhysicsVariator` in `initialize_episode`, so nothing is
 recompiled and the same seed reproduces the same scene. Every factor is off
-unless named; `DEFAULTS` gives the value a factor takes when switched on by
-name. The extra lights, floor materials and walls it needs are built only
-for the factors switched on.
+unless named; config.RANDOMIZATION_FACTORS gives each factor's meaning, the
+value it takes when switched on by name, and its bounds. The extra lights,
+floor materials and walls it needs are built only for the factors switched on.
 """
 
 import mujoco
@@ -18,36 +18,8 @@ from dm_control.composer.variation import colors
 from dm_control.composer.variation import distributions
 from dm_control.composer.variation import noises
 
-from ikea_suite import errors
+from ikea_suite import config
 from ikea_suite.arenas import presets
-
-
-
-# factor: (default when on, meaning). Ranges are inclusive (low, high).
-FACTORS = {
-    "gravity": ((9.0, 10.6), "gravity magnitude, m/s^2 (pointing down)"),
-    "friction": ((0.5, 1.5), "multiplier of each part's and the floor's friction"),
-    "part_mass": ((0.5, 2.0), "multiplier of each part's mass and inertia"),
-    "part_damping": ((0.0, 0.5), "damping of each part's free joint, N s/m and N m s/rad"),
-    "light_count": ((1, 4), "number of lights switched on"),
-    "light_position": (0.5, "largest shift of each light's position and direction, m"),
-    "light_color": (0.3, "largest saturation of each light's random hue (0: white)"),
-    "light_intensity": ((0.6, 1.4), "multiplier of each light's brightness"),
-    "floor": (True, "floor pattern among 4 procedural ones in the scene's colours, random tint"),
-    "background": (True, "backdrop walls, pattern among 4 in the scene's colours, random tint"),
-    "part_color": (True, "a random colour for each part"),
-    "part_material": (True, "random specular, shininess and reflectance of each part"),
-    "camera_jitter": (0.05, "largest shift of each arena camera and its look-at point, m"),
-}
-PHYSICS_FACTORS = ("gravity", "friction", "part_mass", "part_damping")
-GROUPS = {"physics": PHYSICS_FACTORS,
-          "visual": tuple(f for f in FACTORS if f not in PHYSICS_FACTORS),
-          "all": tuple(FACTORS)}
-_RANGES = ("gravity", "friction", "part_mass", "part_damping", "light_count", "light_intensity")
-_AMOUNTS = ("light_position", "light_color", "camera_jitter")
-_SWITCHES = ("floor", "background", "part_color", "part_material")
-
-MAX_LIGHTS = 4
 
 
 def patterns(rgb1, rgb2):
@@ -81,55 +53,6 @@ def _shift(amount):
   return noises.Additive(distributions.Uniform(-amount * np.ones(3), amount * np.ones(3)))
 
 
-def parse(randomize):
-  """{factor: value} from None, a name (factor or group), names, or a {factor: value} dict.
-
-  A value of None or False switches a factor off; True takes its default.
-  """
-  if randomize is None or randomize is False:
-    return {}
-  if isinstance(randomize, str):
-    randomize = [randomize]
-  if not isinstance(randomize, dict):
-    chosen = {}
-    for name in randomize:
-      if name not in FACTORS and name not in GROUPS:
-        raise errors.UnknownNameError("randomization factor", name, list(FACTORS) + list(GROUPS))
-      chosen.update({f: True for f in GROUPS.get(name, (name,))})
-    randomize = chosen
-  factors = {}
-  for name, value in randomize.items():
-    if name not in FACTORS:
-      raise errors.UnknownNameError("randomization factor", name, FACTORS)
-    if value is None or value is False:
-      continue
-    factors[name] = _check(name, FACTORS[name][0] if value is True else value)
-  return factors
-
-
-def _check(name, value):
-  if name in _SWITCHES:
-    if value is not True:
-      raise errors.OptionValueError(f"randomization factor {name!r} is on/off: True, False or None, "
-                             f"got {value!r}")
-    return True
-  if name in _AMOUNTS:
-    if (not isinstance(value, (int, float, np.integer, np.floating)) or isinstance(value, bool)
-        or not 0 <= value < np.inf):
-      raise errors.OptionValueError(f"randomization factor {name!r} needs an amount >= 0, got {value!r}")
-    return float(value)
-  try:
-    low, high = (float(v) for v in value)
-  except (TypeError, ValueError):
-    raise errors.OptionValueError(f"randomization factor {name!r} needs a (low, high) range, "
-                           f"got {value!r}") from None
-  limit = MAX_LIGHTS if name == "light_count" else np.inf
-  if not 0 <= low <= high <= limit:
-    raise errors.OptionValueError(f"randomization factor {name!r} needs 0 <= low <= high <= {limit}, "
-                           f"got {value!r}")
-  return (int(low), int(high)) if name == "light_count" else (float(low), float(high))
-
-
 class SceneRandomizer(composer.Entity):
   """Applies the chosen factors to the arena and the furniture at every episode start."""
 
@@ -139,7 +62,7 @@ class SceneRandomizer(composer.Entity):
     self._variator = variation.PhysicsVariator()
     self._lights = arena.mjcf_model.find_all("light", exclude_attachments=True)
     if "light_count" in factors:
-      for i in range(MAX_LIGHTS - len(self._lights)):
+      for i in range(config.MAX_LIGHTS - len(self._lights)):
         pos, direction = _EXTRA_LIGHTS[i]
         self._lights.append(self._mjcf_root.worldbody.add(
             "light", name=f"extra_{i}", pos=pos, dir=direction, directional=True,
@@ -257,12 +180,9 @@ def _refresh_derived_constants(physics):
     getattr(data, name)[:] = value
 
 
-OPTIONS = ("randomize",)
-
-
-def attach(task, randomize=None):
-  """Attaches a SceneRandomizer for `randomize` (see `parse`) when any factor is on."""
-  factors = parse(randomize)
+def attach(task, factors):
+  """Attaches a SceneRandomizer for `factors` (a TaskConfig's `randomize`: {factor: value})
+  when any factor is on; returns it or None."""
   if not factors:
     return None
   randomizer = SceneRandomizer(task.arena, task.furniture, factors)

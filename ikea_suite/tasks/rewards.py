@@ -40,7 +40,6 @@ import numpy as np
 from ikea_suite import errors
 from ikea_suite.tasks import planner
 
-REWARDS = ("sparse", "dense")
 REACH_SCALE = 0.25     # metres: reach term is exp(-d / REACH_SCALE)
 LIFT_HEIGHT = 0.1      # metres of lift that earn the whole lift term
 DISTANCE_SCALE = 0.25  # metres: distance term is exp(-gap / DISTANCE_SCALE)
@@ -156,13 +155,8 @@ class DenseReward:
 
 
 def make(name: str, task, connection_reward: float, completion_bonus: float):
-  """A DenseReward for "dense", None for "sparse" (the task's own reward).
-
-  Raises:
-    UnknownNameError: `name` is neither.
-  """
-  if name not in REWARDS:
-    raise errors.UnknownNameError("reward", name, REWARDS)
+  """A DenseReward for "dense", None for "sparse" (the task's own reward): `name` is a
+  config.TaskConfig's `reward`, one of config.REWARDS."""
   if name == "sparse":
     return None
   return DenseReward(task, connection_reward, completion_bonus)
