@@ -26,8 +26,6 @@ import numpy as np
 
 from ikea_suite import errors
 from ikea_suite import geometry
-from ikea_suite.robots import compiled_kernels
-from ikea_suite.robots.compiled_kernels import kernels
 
 TASK_SPACE = "task_space"
 TASK_SPACE_POSE = "task_space_pose"
@@ -65,10 +63,9 @@ class TaskSpaceTargets:
   A delta target is kept at most `max_lag` metres from the measured tool so
   that pushing against an obstacle cannot wind it up. Positions are held as
   float64 rows, read as Python floats by the per-step update and DifferentialIK.step
-  (with three numbers per arm each numpy call would cost more than its arithmetic),
-  and updated in place by the fused compiled step (`fused_plan`). Rotations stay
-  numpy products, whose rounding (BLAS's, not Python's) the experts' measured
-  episodes were run with.
+  (with three numbers per arm each numpy call would cost more than its arithmetic).
+  Rotations stay numpy products, whose rounding (BLAS's, not Python's) the experts'
+  measured episodes were run with.
   """
 
   def __init__(self, num_arms, max_translation, max_rotation, workspace, max_lag=0.1):
@@ -78,8 +75,6 @@ class TaskSpaceTargets:
     self._workspace = np.asarray(workspace, dtype=float)   # (num_arms, 2, 3) world boxes
     self._low, self._high = self._workspace[:, 0].tolist(), self._workspace[:, 1].tolist()
     self._max_lag = max_lag
-    self.use_compiled = kernels is not None   # tests turn it off to compare with the Python
-    self._turns = np.zeros((num_arms, 3, 3))   # the compiled path's turn of each arm's target
 
   @property
   def pos(self):
@@ -112,14 +107,6 @@ class TaskSpaceTargets:
   def apply_deltas(self, actions, tcp_pos):
     """Moves every arm's target by its delta action; actions (arms, >= 6), tcp_pos (arms, 3)."""
     step, turn, low, high = self._max_translation, self._max_rotation, self._low, self._high
-    if self.use_compiled:   # compiled_kernels.delta_target: the loop below, arm by arm
-      moves = np.asarray(actions)[:, :6]
-      for i, (move, tcp, turning) in enumerate(zip(moves, tcp_pos, self._turns)):
-        self._pos[i], turned = kernels.delta_target(
-            self._pos[i], move, tcp, step, turn, self._max_lag, low[i], high[i], turning)
-        if turned:
-          self._rot[i] = turning @ self._rot[i]
-      return
     positions = self._pos.tolist()
     for i, (move, tcp) in enumerate(zip(actions[:, :6].tolist(), tcp_pos.tolist())):
       p = positions[i]
@@ -137,9 +124,6 @@ class TaskSpaceTargets:
     """Every arm's target in the frame at `origin` (3 floats) turned by `rotation` (9
     floats, row-major), both world frame: [(position (3 floats), rotation (9 floats,
     row-major))], as DifferentialIK.step takes."""
-    if self.use_compiled:   # compiled_kernels.in_frame: the loop below, arm by arm
-      return [kernels.in_frame(pos, rot, origin, rotation)
-              for pos, rot in zip(self._pos, self._rot.reshape(-1, 9))]
     r0, r1, r2, r3, r4, r5, r6, r7, r8 = rotation
     ox, oy, oz = origin
     out = []
@@ -153,18 +137,6 @@ class TaskSpaceTargets:
                    r2 * m0 + r5 * m3 + r8 * m6, r2 * m1 + r5 * m4 + r8 * m7,
                    r2 * m2 + r5 * m5 + r8 * m8]))
     return out
-
-  def fused_plan(self, origin, rotation):
-    """The compiled plan (compiled_kernels' target_plan) through which the fused step
-    (ik_qp.DirectQP.fused_plan) applies deltas to these targets and takes them into the frame
-    at `origin` (3 floats) turned by `rotation` (9 floats, row-major), as apply_deltas and
-    in_frame do; None where the fused step cannot run."""
-    if not compiled_kernels.fused:
-      return None
-    return kernels.target_plan(
-        len(self._pos), float(self._max_translation), float(self._max_rotation),
-        float(self._max_lag), origin, rotation, self._pos, self._rot, self._turns,
-        np.array(self._low), np.array(self._high))
 
   def apply_pose(self, i, action, home_rot):
     low, high = self._workspace[i]

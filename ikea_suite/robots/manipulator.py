@@ -22,7 +22,6 @@ from ikea_suite.robots import control_modes
 from ikea_suite.robots import grippers
 from ikea_suite.robots import ik
 from ikea_suite.robots import manipulator_observables
-from ikea_suite.robots import task_space_tracking
 from ikea_suite.robots import work_area
 
 _HOME_CACHE = {}
@@ -79,8 +78,10 @@ class Manipulator(work_area.WorkArea, base.Robot):
     boxes = [self._box_to_world(arm.workspace) for arm in self._arms]
     self._targets = control_modes.TaskSpaceTargets(len(self._arms), max_translation,
                                                     max_rotation, boxes)
-    self._tracker = task_space_tracking.TaskSpaceTracker(
-        self._ik, self._targets, self._base_pos.tolist(), self._base_rot.reshape(9).tolist())
+    # The same pose as Python floats, for the task-space targets' per-step frame change.
+    self._base_pos_floats = self._base_pos.tolist()
+    self._base_rot_floats = self._base_rot.reshape(9).tolist()
+    self._dt = 0.05   # the control step (s), which bounds each IK step's joint speeds
     self._wrist_camera, self._camera_size = bool(wrist_camera), tuple(camera_size)
 
   def _build_body(self, name):
@@ -179,7 +180,7 @@ class Manipulator(work_area.WorkArea, base.Robot):
     return frame
 
   def bind_scene(self, arena, furniture, assembly, control_timestep):
-    self._tracker.dt = control_timestep
+    self._dt = control_timestep
 
   def _build_observables(self):
     return manipulator_observables.ManipulatorObservables(self)
@@ -210,9 +211,9 @@ class Manipulator(work_area.WorkArea, base.Robot):
     # one assignment writes every arm's joint targets from the IK's joint vector.
     self._arrays = mujoco_arrays.ArrayViews("qpos", "qvel", "ctrl", "site_xpos", "site_xmat")
     self._tcp_rows = mujoco_arrays.compact_index(self._tcp_ids)
-    self._tracker.bind(self._tcp_rows, mujoco_arrays.compact_index(self._ik_to_qpos),
-                       mujoco_arrays.compact_index(self._arm_act),
-                       mujoco_arrays.compact_index(self._ik.qpos_index[self._arm_ik]))
+    self._ik_qpos_rows = mujoco_arrays.compact_index(self._ik_to_qpos)
+    self._arm_act_rows = mujoco_arrays.compact_index(self._arm_act)
+    self._arm_from_ik_rows = mujoco_arrays.compact_index(self._ik.qpos_index[self._arm_ik])
     self._arm_qpos_rows = mujoco_arrays.compact_index(self._arm_qpos)
     self._arm_dof_rows = mujoco_arrays.compact_index(self._arm_dof)
     self._finger_bodies = [np.array(bind([j.parent for j in a.gripper.joints]).element_id)
@@ -255,11 +256,12 @@ class Manipulator(work_area.WorkArea, base.Robot):
     data = physics.data
     arrays = self._arrays(physics)
     if self._mode == control_modes.TASK_SPACE:   # the targets move by the action, then IK
-      self._tracker.track(arrays, action)
+      self._targets.apply_deltas(action, arrays.site_xpos[self._tcp_rows])
+      self._track_task_space(arrays)
     elif self._mode == control_modes.TASK_SPACE_POSE:
       for i in range(len(self._arms)):
         self._targets.apply_pose(i, action[i], self._base_rot @ self._home_rot[i])
-      self._tracker.track(arrays)
+      self._track_task_space(arrays)
     elif self._mode == control_modes.IMPEDANCE:   # springs pull the tools there; ctrl stays 0
       self._targets.apply_deltas(action, arrays.site_xpos[self._tcp_rows])
       self._impedance.place(physics, self._targets.pos, self._targets.rot)
@@ -276,6 +278,13 @@ class Manipulator(work_area.WorkArea, base.Robot):
       fraction = (min(max(squeeze, -1.0), 1.0) + 1.0) / 2.0
       for actuator, (opened, travel) in zip(actuators, fingers):
         ctrl[actuator] = opened + fraction * travel
+
+  def _track_task_space(self, arrays):
+    """Joint targets for the position actuators from the task-space targets, by IK
+    (`arrays`: this physics' ArrayViews)."""
+    targets = self._targets.in_frame(self._base_pos_floats, self._base_rot_floats)
+    q = self._ik.step(arrays.qpos[self._ik_qpos_rows], targets, self._dt)   # step copies it
+    arrays.ctrl[self._arm_act_rows] = q[self._arm_from_ik_rows]
 
   # -- state readers ---------------------------------------------------------------
 
@@ -335,11 +344,6 @@ class Manipulator(work_area.WorkArea, base.Robot):
   def finger_actuator_ids(self):
     """(arms, fingers) MuJoCo actuator ids of the gripper fingers (set after compile)."""
     return self._finger_act.copy()
-
-  @property
-  def tracker(self):
-    """The task-space modes' task_space_tracking.TaskSpaceTracker."""
-    return self._tracker
 
   def replay_targets(self):
     """A copy of the task-space targets (control_modes.TaskSpaceTargets) as they stand,
