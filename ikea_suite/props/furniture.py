@@ -5,7 +5,6 @@ import numpy as np
 from dm_control import composer
 from dm_control import mjcf
 
-from ikea_suite import fresh_observable
 from ikea_suite import mujoco_arrays
 from ikea_suite.props import connector_table
 from ikea_suite.props import model_format
@@ -121,8 +120,8 @@ class FurnitureObservables(composer.Observables):
 
   @composer.observable
   def part_positions(self):
-    return fresh_observable.FreshGeneric(self._entity.part_positions)
+    return mujoco_arrays.FreshGeneric(self._entity.part_positions)
 
   @composer.observable
   def part_quaternions(self):
-    return fresh_observable.FreshGeneric(self._entity.part_quaternions)
+    return mujoco_arrays.FreshGeneric(self._entity.part_quaternions)

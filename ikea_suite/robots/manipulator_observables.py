@@ -3,7 +3,7 @@
 from dm_control import composer
 from dm_control.composer.observation import observable
 
-from ikea_suite import fresh_observable
+from ikea_suite import mujoco_arrays
 
 
 class ManipulatorObservables(composer.Observables):
@@ -19,20 +19,20 @@ class ManipulatorObservables(composer.Observables):
 
   @composer.observable
   def joint_positions(self):
-    return fresh_observable.FreshGeneric(self._entity.joint_positions)
+    return mujoco_arrays.FreshGeneric(self._entity.joint_positions)
 
   @composer.observable
   def joint_velocities(self):
-    return fresh_observable.FreshGeneric(self._entity.joint_velocities)
+    return mujoco_arrays.FreshGeneric(self._entity.joint_velocities)
 
   @composer.observable
   def tcp_positions(self):
-    return fresh_observable.FreshGeneric(self._entity.tcp_positions)
+    return mujoco_arrays.FreshGeneric(self._entity.tcp_positions)
 
   @composer.observable
   def tcp_quaternions(self):
-    return fresh_observable.FreshGeneric(self._entity.tcp_quaternions)
+    return mujoco_arrays.FreshGeneric(self._entity.tcp_quaternions)
 
   @composer.observable
   def gripper_opening(self):
-    return fresh_observable.FreshGeneric(self._entity.gripper_openings)
+    return mujoco_arrays.FreshGeneric(self._entity.gripper_openings)
