@@ -1,15 +1,18 @@
 """The common body of every arm robot: actuators per control mode, IK, observables, reset.
 
-A subclass builds its MJCF in `_build_body` and returns one `arm_parts.Arm` per arm.
+A subclass builds its MJCF in `_build_body` and returns one `Arm` per arm.
 Everything else (action spec, control modes, wrist cameras, the part
 placement the robot can reach) is shared. Controls and targets are set once per
 control step in `apply_action`; MuJoCo's actuators (arm_actuators) act on them
 during the substeps, so no Python runs per physics substep."""
 
 import copy
+import dataclasses
 
 import mujoco
 import numpy as np
+from dm_control import composer
+from dm_control.composer.observation import observable
 
 from ikea_suite import errors
 from ikea_suite import geometry
@@ -21,17 +24,53 @@ from ikea_suite.robots import base
 from ikea_suite.robots import control_modes
 from ikea_suite.robots import grippers
 from ikea_suite.robots import ik
-from ikea_suite.robots import manipulator_observables
-from ikea_suite.robots import work_area
 
 _HOME_CACHE = {}
 
 
-class Manipulator(work_area.WorkArea, base.Robot):
-  """An arm robot on a fixed base; see control_modes for the action of each mode, and
-  work_area.WorkArea for where the task lays its parts."""
+@dataclasses.dataclass
+class Arm:
+  """What an arm robot's `_build_body` returns per arm: its joints, gripper, camera and home."""
+  prefix: str                 # action-name prefix: "" or "right_" / "left_"
+  joints: list                # joint elements, base to wrist
+  torque_limits: np.ndarray   # N m per joint
+  gripper: grippers.GripperParts
+  camera: object              # wrist camera element
+  seed: np.ndarray            # joint angles near the home pose, refined by IK
+  home_tcp: np.ndarray        # home tool-centre point in the base frame
+  workspace: np.ndarray       # (2, 3) box in the base frame the tool is kept in
+  impedance_target: object = None   # the target site of impedance mode (arm_actuators)
+
+
+def single_arm(root, elements, limits, joints, gripper_spec, seed, home_tcp, workspace_box):
+  """The one Arm of a single-arm robot whose joints, hand and camera follow the sheets' names."""
+  gripper = grippers.build(elements["right_hand"], gripper_spec, prefix="right_")
+  return Arm(
+      prefix="", joints=[root.find("joint", j) for j in joints],
+      torque_limits=np.array([limits[j][1] for j in joints]), gripper=gripper,
+      camera=root.find("camera", "eye_in_hand"), seed=np.array(seed),
+      home_tcp=np.array(home_tcp), workspace=np.array(workspace_box))
+
+
+class Manipulator(base.Robot):
+  """An arm robot on a fixed base; see control_modes for the action of each mode.
+
+  The placement figures say where the task lays the parts (the band and sector around the
+  base, `reach_zone`); a robot overrides those its own reach calls for (robots/baxter.py).
+  """
 
   DEFAULT_NAME = "manipulator"
+  REACH = 0.85                   # metres from the base where parts are placed
+  # Metres from the base inside which no part is placed: an arm pointing down cannot
+  # reach right beside itself.
+  PLACEMENT_INNER = 0.55
+  # Metres out to the centre of the part built onto (more for a wide one): a held part mated
+  # nearer the base folds the elbow into it (measured with the Sawyer at 0.4 m).
+  ROOT_DISTANCE = 0.45
+  # Parts lie within this angle either side of the base's heading (rad).
+  PLACEMENT_SECTOR = np.radians(110)
+  # (bearing, metres): parts beyond that bearing may lie out that far (base.ReachZone).
+  PLACEMENT_SIDE_REACH = None
   BASE_POS = (-0.55, 0.0, 0.0)   # world position of the base, facing +x
   # Furniture scale that fits this arm's reach (load(scale=...)): at 0.5 a 55 cm table
   # top is 27.5 cm and every part of the small furniture lies within REACH on the work
@@ -173,6 +212,13 @@ class Manipulator(work_area.WorkArea, base.Robot):
     return len(self._arms[0].joints) + 1 if self._mode in (
         control_modes.JOINT_POSITION, control_modes.JOINT_TORQUE) else 7
 
+  @property
+  def reach_zone(self):
+    """base.ReachZone: where the task may put parts for this arm (tasks/arm_placement.py)."""
+    return base.ReachZone(self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH),
+                          float(self.PLACEMENT_SECTOR), float(self.PLACEMENT_INNER),
+                          float(self.ROOT_DISTANCE), len(self._arms), self.PLACEMENT_SIDE_REACH)
+
   def mount(self, arena):
     frame = arena.attach(self)
     frame.pos = self._base_pos
@@ -183,7 +229,7 @@ class Manipulator(work_area.WorkArea, base.Robot):
     self._dt = control_timestep
 
   def _build_observables(self):
-    return manipulator_observables.ManipulatorObservables(self)
+    return ManipulatorObservables(self)
 
   def after_compile(self, physics, random_state):
     bind = physics.bind
@@ -393,3 +439,35 @@ class Manipulator(work_area.WorkArea, base.Robot):
 
   def joint_velocities(self, physics):
     return self._arrays(physics).qvel[self._arm_dof_rows].copy()
+
+
+class ManipulatorObservables(composer.Observables):
+  """Arm joint positions and velocities, tool poses, gripper openings; wrist cameras on request."""
+
+  def __init__(self, entity):
+    super().__init__(entity)
+    if entity.wrist_camera_size is not None:
+      height, width = entity.wrist_camera_size
+      for arm in entity.arms:
+        self.add_observable(f"{arm.prefix}wrist_camera",
+                            observable.MJCFCamera(arm.camera, height=height, width=width))
+
+  @composer.observable
+  def joint_positions(self):
+    return mujoco_arrays.FreshGeneric(self._entity.joint_positions)
+
+  @composer.observable
+  def joint_velocities(self):
+    return mujoco_arrays.FreshGeneric(self._entity.joint_velocities)
+
+  @composer.observable
+  def tcp_positions(self):
+    return mujoco_arrays.FreshGeneric(self._entity.tcp_positions)
+
+  @composer.observable
+  def tcp_quaternions(self):
+    return mujoco_arrays.FreshGeneric(self._entity.tcp_quaternions)
+
+  @composer.observable
+  def gripper_opening(self):
+    return mujoco_arrays.FreshGeneric(self._entity.gripper_openings)
