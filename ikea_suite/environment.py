@@ -12,6 +12,8 @@ from dm_control.rl import control
 from ikea_suite import composer_internals
 from ikea_suite import errors
 
+_MID, _LAST = dm_env.StepType.MID, dm_env.StepType.LAST   # looked up once, not every step
+
 
 def check_action(action, spec, names, bounds=None):
   """Returns the action as a float array clipped to the spec; raises ActionError if malformed.
@@ -194,8 +196,8 @@ class Environment(composer.Environment):
       observation = updater.get_observation()
     if last:
       self._reset_due = True
-      return dm_env.TimeStep(dm_env.StepType.LAST, reward, discount, observation)
-    return dm_env.TimeStep(dm_env.StepType.MID, reward, discount, observation)
+      return dm_env.TimeStep(_LAST, reward, discount, observation)
+    return dm_env.TimeStep(_MID, reward, discount, observation)
 
   def _composer_step(self, action):
     """composer's own step of a checked action, with the episode's end and its reason noted."""

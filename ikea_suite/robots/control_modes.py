@@ -62,14 +62,14 @@ class TaskSpaceTargets:
 
   A delta target is kept at most `max_lag` metres from the measured tool so
   that pushing against an obstacle cannot wind it up. Positions are held as
-  float64 rows, read as Python floats by the per-step update and DifferentialIK.step
+  Python floats, which the per-step update and DifferentialIK.step read and write
   (with three numbers per arm each numpy call would cost more than its arithmetic).
   Rotations stay numpy products, whose rounding (BLAS's, not Python's) the experts'
   measured episodes were run with.
   """
 
   def __init__(self, num_arms, max_translation, max_rotation, workspace, max_lag=0.1):
-    self._pos = np.zeros((num_arms, 3))
+    self._pos = [[0.0, 0.0, 0.0] for _ in range(num_arms)]   # per arm, x y z
     self._rot = np.tile(np.eye(3), (num_arms, 1, 1))
     self._max_translation, self._max_rotation = max_translation, max_rotation
     self._workspace = np.asarray(workspace, dtype=float)   # (num_arms, 2, 3) world boxes
@@ -79,7 +79,7 @@ class TaskSpaceTargets:
   @property
   def pos(self):
     """(arms, 3) target positions (a copy)."""
-    return self._pos.copy()
+    return np.array(self._pos)
 
   @property
   def rot(self):
@@ -101,24 +101,27 @@ class TaskSpaceTargets:
       self._set(i, pos, rot)
 
   def _set(self, i, pos, rot):
-    self._pos[i] = np.asarray(pos, dtype=float).reshape(3)
+    self._pos[i] = np.asarray(pos, dtype=float).reshape(3).tolist()
     self._rot[i] = rot
 
   def apply_deltas(self, actions, tcp_pos):
     """Moves every arm's target by its delta action; actions (arms, >= 6), tcp_pos (arms, 3)."""
-    step, turn, low, high = self._max_translation, self._max_rotation, self._low, self._high
-    positions = self._pos.tolist()
-    for i, (move, tcp) in enumerate(zip(actions[:, :6].tolist(), tcp_pos.tolist())):
-      p = positions[i]
-      target = [p[0] + move[0] * step, p[1] + move[1] * step, p[2] + move[2] * step]
-      lag = [target[0] - tcp[0], target[1] - tcp[1], target[2] - tcp[2]]
-      distance = math.sqrt(lag[0] * lag[0] + lag[1] * lag[1] + lag[2] * lag[2])
-      if distance > self._max_lag:
-        target = [tcp[k] + lag[k] * (self._max_lag / distance) for k in range(3)]
-      self._pos[i] = [min(max(target[k], low[i][k]), high[i][k]) for k in range(3)]
+    step, turn, max_lag = self._max_translation, self._max_rotation, self._max_lag
+    positions, rotations = self._pos, self._rot
+    for i, (move, tcp, low, high) in enumerate(zip(actions.tolist(), tcp_pos.tolist(),
+                                                    self._low, self._high)):
+      x, y, z = positions[i]
+      x, y, z = x + move[0] * step, y + move[1] * step, z + move[2] * step
+      lag_x, lag_y, lag_z = x - tcp[0], y - tcp[1], z - tcp[2]
+      distance = math.sqrt(lag_x * lag_x + lag_y * lag_y + lag_z * lag_z)
+      if distance > max_lag:
+        shrink = max_lag / distance
+        x, y, z = tcp[0] + lag_x * shrink, tcp[1] + lag_y * shrink, tcp[2] + lag_z * shrink
+      positions[i] = [min(max(x, low[0]), high[0]), min(max(y, low[1]), high[1]),
+                      min(max(z, low[2]), high[2])]
       x, y, z = move[3] * turn, move[4] * turn, move[5] * turn
       if x or y or z:
-        self._rot[i] = _axis_angle_rows(x, y, z) @ self._rot[i]
+        rotations[i] = _axis_angle_rows(x, y, z) @ rotations[i]
 
   def in_frame(self, origin, rotation):
     """Every arm's target in the frame at `origin` (3 floats) turned by `rotation` (9
@@ -128,7 +131,7 @@ class TaskSpaceTargets:
     ox, oy, oz = origin
     out = []
     for (x, y, z), (m0, m1, m2, m3, m4, m5, m6, m7, m8) in zip(
-        self._pos.tolist(), self._rot.reshape(-1, 9).tolist()):
+        self._pos, self._rot.reshape(-1, 9).tolist()):
       x, y, z = x - ox, y - oy, z - oz
       out.append(([r0 * x + r3 * y + r6 * z, r1 * x + r4 * y + r7 * z, r2 * x + r5 * y + r8 * z],
                   [r0 * m0 + r3 * m3 + r6 * m6, r0 * m1 + r3 * m4 + r6 * m7,

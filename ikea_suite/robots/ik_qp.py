@@ -184,6 +184,11 @@ class DirectQP:
     self._caps = {}   # (dt, velocity_limited) -> +-speed bound per coordinate, capped at _INF
     self._no_rows = np.zeros((0, nv))
     self._sense = np.zeros(nv, dtype=np.intc)
+    # What every step writes again: w, as (sites, 6, nv) and as its rows, and the weighted
+    # errors (see _rows).
+    self._w = np.zeros((len(self._sites), 6, nv))
+    self._w_rows = self._w.reshape(-1, nv)
+    self._weighted = np.zeros(6 * len(self._sites))
 
   def set_posture_target(self, q):
     self._posture_offset = self._posture_weight * np.asarray(q, dtype=float)
@@ -223,7 +228,8 @@ class DirectQP:
     return self._caps[key]
 
   def _rows(self, targets):
-    """(w, weighted errors) of the frame tasks, by frame_rows in Python floats."""
+    """(w, weighted errors) of the frame tasks, by frame_rows in Python floats, in arrays
+    the next call overwrites."""
     errors, blocks = [], []
     xpos, xmat = self._site_xpos, self._site_xmat
     for site, (pos, rot), cost in zip(self._sites, targets, self._cost_rows):
@@ -234,8 +240,9 @@ class DirectQP:
       error, block = frame_rows(xpos[site].tolist(), xmat[site].tolist(), pos, rot, cost)
       errors += error
       blocks.append(block)
-    w = (np.array(blocks).reshape(-1, 6, 6) @ self._jac).reshape(-1, self._model.nv)
-    return w, self._error_weight * errors
+    np.matmul(np.array(blocks).reshape(-1, 6, 6), self._jac, out=self._w)
+    np.multiply(self._error_weight, errors, out=self._weighted)
+    return self._w_rows, self._weighted
 
   def solve(self, q, targets, dt, velocity_limited=True):
     """The step displacement from q (within the limits) towards `targets`, or None.

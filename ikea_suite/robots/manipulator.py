@@ -299,7 +299,6 @@ class Manipulator(base.Robot):
 
   def apply_action(self, physics, action, random_state):
     action = np.ascontiguousarray(action, dtype=float).reshape(len(self._arms), -1)
-    data = physics.data
     arrays = self._arrays(physics)
     if self._mode == control_modes.TASK_SPACE:   # the targets move by the action, then IK
       self._targets.apply_deltas(action, arrays.site_xpos[self._tcp_rows])
@@ -313,11 +312,11 @@ class Manipulator(base.Robot):
       self._impedance.place(physics, self._targets.pos, self._targets.rot)
     elif self._mode == control_modes.JOINT_POSITION:
       for i in range(len(self._arms)):
-        data.ctrl[self._arm_act[i]] = control_modes.joint_targets(
+        arrays.ctrl[self._arm_act[i]] = control_modes.joint_targets(
             action[i, :-1], self._joint_low[i], self._joint_high[i])
     else:
       for i, arm in enumerate(self._arms):
-        data.ctrl[self._arm_act[i]] = action[i, :-1] * arm.torque_limits
+        arrays.ctrl[self._arm_act[i]] = action[i, :-1] * arm.torque_limits
     # grippers.command for every arm, in Python floats.
     ctrl = arrays.ctrl
     for squeeze, (actuators, fingers) in zip(action[:, -1].tolist(), self._finger_command):
