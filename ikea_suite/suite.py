@@ -79,7 +79,7 @@ def load(furniture: str | os.PathLike = DEFAULT_FURNITURE, robot: str = DEFAULT_
     OptionValueError: an option value out of range or of the wrong kind.
     ModelFormatError: a model file that breaks the format.
   """
-  path = catalog.path_of(furniture)
+  spec = catalog.spec(furniture)
   robot_entry = registry.get(robot)
   robot_keys = list(robot_entry.factory.option_defaults())
   valid = (set(TASK_OPTIONS) | set(THRESHOLD_OPTIONS) | set(ENVIRONMENT_OPTIONS) | set(robot_keys)
@@ -89,14 +89,14 @@ def load(furniture: str | os.PathLike = DEFAULT_FURNITURE, robot: str = DEFAULT_
       raise errors.UnknownNameError("option", key, valid)
   _check_options(options)
   scale = scaling.check_scale(options.get("scale", 1.0))
-  path = scaling.scaled_path(path, scale)
+  spec = scaling.scaled(spec, scale)
   thresholds = alignment.Thresholds(**{field: options[key] for key, field in THRESHOLD_OPTIONS.items()
                                        if key in options})
   if "distance_threshold" not in options and scale != 1.0:
     thresholds = dataclasses.replace(thresholds, distance=thresholds.distance * scale)
   def picked(names):
     return {k: options[k] for k in names if k in options}
-  furniture_prop = furniture_lib.Furniture(path, scale=scale)
+  furniture_prop = furniture_lib.Furniture(spec)
   robot_options = picked(robot_keys)
   arena_kind = _arena_kind(options, robot_entry, robot_options)
   robot_entity = robot_entry.factory(**robot_options)
