@@ -6,8 +6,8 @@ and reads plain observables straight from their callables instead of through com
 buffers. To know that it may, and to leave composer's bookkeeping as composer's own step
 would, it needs state that dm_control 1.0.50 keeps private:
 
-- composer.Environment (the base class): its hooks, physics, substep count, time limit,
-  observation updater and one substep (`_substep`);
+- composer.Environment (the base class): its hooks, physics, substep count, observation
+  updater and one substep (`_substep`);
 - composer's hooks (`_EnvironmentHooks`): which entity and extra hooks run at each substep;
 - the observation updater (`observation.Updater`): its step counter, its enabled observables
   in order and by name, whether their structure is nested, and each one's buffer size,
@@ -46,7 +46,6 @@ PINNED = (
     ("_physics", dm_mujoco.Physics),
     ("_physics._warnings_cause_exception", bool),
     ("_n_sub_steps", numbers.Integral),
-    ("_time_limit", numbers.Real),
     ("_substep", collections.abc.Callable),
     ("_observation_updater", updater_lib.Updater),
     ("_observation_updater._step_counter", numbers.Integral),
@@ -69,8 +68,8 @@ PINNED_PER_OBSERVABLE = (
 class Internals:
   """One environment's composer state, as its batched step reads it (fetched by `read`)."""
 
-  __slots__ = ("hooks", "physics", "proxy", "random_state", "task", "n_sub_steps",
-               "time_limit", "updater", "substep")
+  __slots__ = ("hooks", "physics", "proxy", "random_state", "task", "n_sub_steps", "updater",
+               "substep")
 
   def __init__(self, env):
     self.hooks = env._hooks
@@ -79,7 +78,6 @@ class Internals:
     self.random_state = env.random_state
     self.task = env.task
     self.n_sub_steps = env._n_sub_steps
-    self.time_limit = env._time_limit
     self.updater = env._observation_updater
     self.substep = env._substep               # one physics substep with its hooks
 

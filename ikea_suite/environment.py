@@ -99,6 +99,7 @@ class Environment(composer.Environment):
     # state, variations and placement on the same Physics (and its render contexts).
     kwargs.setdefault("recompile_mjcf_every_episode", False)
     super().__init__(task, **kwargs)
+    self._time_limit_s = kwargs.get("time_limit", float("inf"))   # composer keeps its own, private
     self._action_names = list(task.action_names)
     self._checked_spec = None
     self._termination_reason = None
@@ -131,7 +132,7 @@ class Environment(composer.Environment):
   @property
   def time_limit(self):
     """Seconds of simulated time after which an episode is truncated."""
-    return self._time_limit
+    return self._time_limit_s
 
   def action_spec(self):
     if self._checked_spec is None:  # fixed for the task's lifetime; built once
@@ -191,7 +192,7 @@ class Environment(composer.Environment):
       complete = task.should_terminate_episode(proxy)
       if complete:
         self._termination_reason = "complete"
-      last = complete or physics.time() >= internals.time_limit
+      last = complete or physics.time() >= self._time_limit_s
     if direct is None:
       observation = updater.get_observation()
     if last:

@@ -48,7 +48,6 @@ def test_the_pinned_attributes_mean_what_the_batched_step_takes_them_to_mean():
   assert isinstance(internals.hooks, composer_environment._EnvironmentHooks)
   assert internals.physics.data is env.physics.data   # the physics behind the proxy
   assert internals.n_sub_steps == env.task.physics_steps_per_control_step
-  assert internals.time_limit == env.time_limit
   updater = internals.updater
   assert updater._is_nested is False
   assert list(updater._enabled_structure) == list(env.observation_spec())
