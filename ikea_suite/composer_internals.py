@@ -95,7 +95,7 @@ def _mismatch(owner, path, kinds):
   return None
 
 
-def problems(env):
+def problems(env) -> list[str]:
   """What is not as this module expects in `env`'s private state (PINNED, after a reset).
 
   Args:
@@ -113,7 +113,7 @@ def problems(env):
 _warned = []   # the problems already logged, so that each reset does not log them again
 
 
-def read(env):
+def read(env) -> Internals | None:
   """`env`'s composer state for the batched step, or None where `problems` finds any (logged
   once per process).
 
@@ -133,13 +133,13 @@ def read(env):
   return None
 
 
-def substep_hooks_trivial(internals):
+def substep_hooks_trivial(internals: Internals) -> bool:
   """Whether no entity and no extra hook runs before or after a physics substep."""
   return not any(getattr(internals.hooks, name).entity_hooks
                  or getattr(internals.hooks, name).extra_hooks for name in _SUBSTEP_HOOKS)
 
 
-def direct_readers(internals):
+def direct_readers(internals: Internals) -> list | None:
   """[(name, callable giving the observation)] when every enabled observable is plain, else
   None.
 
@@ -166,7 +166,7 @@ def _reader(enabled):
   return lambda: np.array(read())
 
 
-def nothing_due_before_last_substep(internals):
+def nothing_due_before_last_substep(internals: Internals) -> bool:
   """Whether no enabled observable needs an update before the coming control step's last
   substep (true for the default observables, which update once per control step); call
   after the updater's prepare_for_next_control_step."""
@@ -175,13 +175,13 @@ def nothing_due_before_last_substep(internals):
              for e in internals.updater._enabled_list)
 
 
-def skip_updates(internals, count):
+def skip_updates(internals: Internals, count: int) -> None:
   """Counts `count` substeps at which the updater had nothing to do as done, as its update()
   would have."""
   internals.updater._step_counter += count
 
 
-def warnings_raise(physics):
+def warnings_raise(physics) -> bool:
   """Whether a new MuJoCo warning raises PhysicsError (False within the physics'
   suppress_physics_errors())."""
   return physics._warnings_cause_exception

@@ -146,7 +146,7 @@ def _exit_path(scene, part, present):
 _PLANS = weakref.WeakKeyDictionary()
 
 
-def plan(spec, root, lift=0.15):
+def plan(spec, root: int, lift: float = 0.15) -> tuple:
   """Insertion steps for every part but `root`, in assembly order; raises SequenceError if stuck.
 
   Args:

@@ -79,7 +79,7 @@ def _parse_twists(text, path, label):
   return tuple(math.radians(d) for d in degrees)
 
 
-def to_xml(document):
+def to_xml(document: ET.Element) -> str:
   """A document (read_document's, a spec's) as MJCF text that compiles from memory."""
   return ET.tostring(document, encoding="unicode")
 
@@ -91,7 +91,7 @@ def _compile(document, path):
     raise errors.ModelFormatError(path, "<mujoco>", f"plain MuJoCo cannot load it: {e}") from None
 
 
-def compile_model(spec):
+def compile_model(spec: furniture_spec.FurnitureSpec) -> mujoco.MjModel:
   """The furniture as plain MuJoCo compiles it (its assembled pose), from the spec's document.
 
   Args:
@@ -257,7 +257,7 @@ def _anchor_folders(root, model_dir):
         compiler.set(key, str(model_dir.resolve()))
 
 
-def read_document(path):
+def read_document(path: str | os.PathLike) -> ET.Element:
   """The parsed <mujoco> element of a furniture file, asset folders made absolute.
 
   Args:
@@ -280,7 +280,8 @@ def read_document(path):
   return root
 
 
-def spec_from_document(root, path, scale=1.0):
+def spec_from_document(root: ET.Element, path: str | os.PathLike,
+                       scale: float = 1.0) -> furniture_spec.FurnitureSpec:
   """Validates a furniture document (read_document's, perhaps scaled) into its FurnitureSpec.
 
   Args:
@@ -311,7 +312,7 @@ def spec_from_document(root, path, scale=1.0):
       document=root, scale=float(scale))
 
 
-def load_spec(path):
+def load_spec(path: str | os.PathLike) -> furniture_spec.FurnitureSpec:
   """Reads and validates a furniture file into its FurnitureSpec (at the file's own size).
 
   Args:
