@@ -5,7 +5,7 @@ smoothly varying random actions (state observations, no rendering); the same
 number of physics substeps stepped by mujoco.mj_step on the env's compiled
 model from the very states the env stepped from; their ratio; and the Python
 control cost per step: the robot's whole apply_action and, within it, the
-IK step (in task_space with the compiled fused step, with the target update it includes).
+IK step (DifferentialIK.step).
 Usage:
 
     python benchmarks/robot_throughput.py [--steps 500] [--furniture NAME] [--robots sawyer ...]
@@ -86,21 +86,15 @@ def time_robot(env, steps, rng, clock=time.perf_counter, repeats=1,
   robot = env.task.robot
   control = robot.apply_action = _Timer(robot.apply_action, clock)   # shadows the method
   ik = robot.ik if isinstance(robot, manipulator.Manipulator) else None   # the Cursor has none
-  # The IK step: DifferentialIK.step, or the fused step (ik.step_task_space) with the
-  # target update it takes in.
-  ik_steps = ("step", "step_task_space")
   if ik is not None:
-    solves = [_Timer(getattr(ik, name), clock) for name in ik_steps]
-    for name, solve in zip(ik_steps, solves):
-      setattr(ik, name, solve)   # shadows the method
+    solve = ik.step = _Timer(ik.step, clock)   # shadows the method
   env.random_state.set_state(seed_state)
   replay_timing.time_env_and_raw(env, actions, clock, block)
   del robot.apply_action
   ik_seconds = 0.0
   if ik is not None:
-    for name in ik_steps:
-      delattr(ik, name)
-    ik_seconds = sum(solve.seconds for solve in solves) / steps
+    del ik.step
+    ik_seconds = solve.seconds / steps
   return (env_seconds.min(), raw_seconds.min(), ratio, int(substeps[0]),
           control.seconds / steps, ik_seconds)
 

@@ -1,7 +1,6 @@
 """`ikea-suite-rollout --doctor`: what this installation runs on, and a hint for each problem.
 
-Prints Python, MuJoCo, dm_control and numpy versions, whether the task-space control's
-optional C module (robots/_ik_kernels.c) was built, the rendering backend
+Prints Python, MuJoCo, dm_control and numpy versions, the rendering backend
 (MUJOCO_GL) and whether an offscreen OpenGL context can be made, each with a
 hint when something is off. Returns the number of problems found.
 """
@@ -55,19 +54,6 @@ def checks():
   numpy = _version("numpy")
   out.append(("numpy", numpy or "missing", None if numpy else "numpy is missing",
               "pip install numpy"))
-  from ikea_suite.robots import compiled_kernels
-  built = compiled_kernels.kernels is not None
-  if not built:
-    kernels = "Python twins"
-  elif compiled_kernels.fused:
-    kernels = "compiled, fused task-space step"
-  else:   # numpy without its bundled OpenBLAS: the compiled pieces run between numpy's calls
-    kernels = "compiled, separate steps (numpy's BLAS not found)"
-  out.append(("IK kernels", kernels,
-              None if built else "the optional C module was not built at install: "
-              "task-space control runs the same arithmetic in Python, slower",
-              "install a C compiler and the Python headers (Debian/Ubuntu: apt-get install "
-              'gcc python3-dev), then reinstall: pip install -e ".[test]"'))
   backend = os.environ.get("MUJOCO_GL", "(not set: GLFW, needs a display)")
   out.append(("MUJOCO_GL", backend, None, ""))
   problem = _gl_problem()

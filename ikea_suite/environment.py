@@ -3,14 +3,16 @@
 import logging
 import math
 
+import dm_env
 import mujoco
 import numpy as np
-import dm_env
 from dm_control import composer
 from dm_control.rl import control
 
+from ikea_suite import composer_internals
 from ikea_suite import errors
-from ikea_suite import fresh_observable
+
+_MID, _LAST = dm_env.StepType.MID, dm_env.StepType.LAST   # looked up once, not every step
 
 # Resets retried when the parts cannot be laid out (composer's EpisodeInitializationError):
 # load() accepts furniture that fits the work table in at least half its layouts, so ten
@@ -65,7 +67,7 @@ def advance(physics, nstep, raw=None):
     names = ", ".join(np.compress(warnings > np.array(before),
                                   list(mujoco.mjtWarning.__members__)))
     message = f"Physics state is invalid. Warning(s) raised: {names}"
-    if physics._warnings_cause_exception:   # False within physics.suppress_physics_errors()
+    if composer_internals.warnings_raise(physics):   # not within suppress_physics_errors()
       raise control.PhysicsError(message)
     logging.warning(message)
 
@@ -76,17 +78,6 @@ def raw_handles(physics):
   if model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4:
     return None
   return model, data, data.warning.number   # a live view of the counts
-
-
-def _copying_reader(enabled):
-  """A callable giving an enabled observable's value as composer's buffer would hold it: a
-  copy (np.array copies, as the buffer does on insert), or the value itself where the
-  observable makes a new array on every read (fresh_observable.FreshGeneric, uncorrupted)."""
-  read = enabled.observation_callable
-  if isinstance(enabled.observable, fresh_observable.FreshGeneric) and (
-      enabled.observable.corruptor is None):
-    return read
-  return lambda: np.array(read())
 
 
 class Environment(composer.Environment):
@@ -101,6 +92,9 @@ class Environment(composer.Environment):
   observation is read straight from the observables after the step, the very
   values composer's buffers would hand back, without scheduling and buffering
   them. Either way a MuJoCo warning ends the episode with a reason.
+
+  Deciding and doing this reads composer's private state (composer_internals); where a
+  dm_control release has changed it, the environment runs composer's own step instead.
   """
 
   def __init__(self, task, **kwargs):
@@ -111,11 +105,14 @@ class Environment(composer.Environment):
     kwargs.setdefault("recompile_mjcf_every_episode", False)
     kwargs.setdefault("max_reset_attempts", RESET_ATTEMPTS)
     super().__init__(task, **kwargs)
+    self._time_limit_s = kwargs.get("time_limit", float("inf"))   # composer keeps its own, private
     self._action_names = list(task.action_names)
     self._checked_spec = None
     self._termination_reason = None
-    self._trivial_substeps = None
-    self._plain_observables = None
+    self._reset_due = True   # composer's own flag is private: this one follows it
+    self._internals = None   # composer_internals.Internals of this episode, or None
+    self._trivial_substeps = False
+    self._direct = None      # composer_internals.direct_readers of this episode
     self._raw = None   # (physics.data, raw_handles(physics)) of the physics stepped last
     self._action_bounds = None
 
@@ -130,16 +127,23 @@ class Environment(composer.Environment):
     """Starts an episode; raises EpisodeStartError when it cannot start (composer's
     EpisodeInitializationError, or a MuJoCo warning on the first state)."""
     self._termination_reason = None
-    self._plain_observables = None   # the updater rebuilds its observables on reset
     try:
-      return super().reset()
+      timestep = super().reset()
     except (composer.EpisodeInitializationError, control.PhysicsError) as e:
       raise errors.EpisodeStartError(f"the episode could not start: {e}") from e
+    # A reset may recompile the physics and always rebuilds the updater's observables.
+    self._internals = internals = composer_internals.read(self)
+    if internals is not None:
+      self._trivial_substeps = composer_internals.substep_hooks_trivial(internals)
+      self._direct = (composer_internals.direct_readers(internals)
+                      if self._trivial_substeps else None)
+    self._reset_due = False
+    return timestep
 
   @property
   def time_limit(self):
     """Seconds of simulated time after which an episode is truncated."""
-    return self._time_limit
+    return self._time_limit_s
 
   def action_spec(self):
     if self._checked_spec is None:  # fixed for the task's lifetime; built once
@@ -147,99 +151,73 @@ class Environment(composer.Environment):
       self._action_bounds = (self._checked_spec.minimum, self._checked_spec.maximum)
     return self._checked_spec
 
-  def _recompile_physics_and_update_observables(self):
-    super()._recompile_physics_and_update_observables()
-    self._trivial_substeps = None   # hooks are refreshed only here
-    self._plain_observables = None
-
-  def _substep_hooks_trivial(self):
-    if self._trivial_substeps is None:
-      self._trivial_substeps = not any(getattr(self._hooks, "_" + name).entity_hooks
-                                       or getattr(self._hooks, "_" + name).extra_hooks
-                                       for name in ("before_substep", "after_substep"))
-    return self._trivial_substeps
-
-  def _nothing_due_before_last_substep(self):
-    """Whether no enabled observable needs an update before the control step's last
-    substep (true for the default observables, which update once per control step).
-
-    Reads dm_control 1.0.50's observation updater internals (`_step_counter`,
-    `_enabled_list`); tests/test_environment_internals.py pins them.
-    """
-    updater = self._observation_updater
-    first_due = updater._step_counter + self._n_sub_steps
-    return all(not e.update_schedule or e.update_schedule[0][0] >= first_due
-               for e in updater._enabled_list)
-
-  def _direct_observables(self):
-    """[(name, callable giving the observation (_copying_reader))] when every enabled
-    observable is plain, else None.
-
-    A plain observable (one-entry buffer, no delay, no aggregator, update interval 1)
-    shows after each control step a copy of its value at the step's last substep, so
-    reading it then is what composer's updater returns. Reads the updater's
-    `_is_nested` and `_enabled_structure` (tests/test_environment_internals.py pins them).
-    """
-    if self._plain_observables is None:
-      updater = self._observation_updater
-      plain = not updater._is_nested and all(
-          e.buffer_size == 1 and e.delay == 0 and e.update_interval == 1
-          and e.observable.aggregator is None for e in updater._enabled_structure.values())
-      self._plain_observables = (
-          [(name, _copying_reader(e)) for name, e in updater._enabled_structure.items()]
-          if plain else False)
-    return self._plain_observables or None
-
   def step(self, action):
-    if self._reset_next_step:
-      return super().step(action)
+    if self._reset_due:
+      return self.reset()   # as composer's step does at an episode's end
     action = check_action(action, self.action_spec(), self._action_names, self._action_bounds)
-    self._hooks.before_step(self._physics_proxy, action, self._random_state)
-    updater = self._observation_updater
+    internals = self._internals
+    if internals is None:
+      return self._composer_step(action)
+    physics, proxy, random_state = internals.physics, internals.proxy, internals.random_state
+    internals.hooks.before_step(proxy, action, random_state)
+    updater = internals.updater
+    n_sub_steps = internals.n_sub_steps
     # Batched: all substeps in one call when nothing needs Python between them;
     # otherwise composer's own loop of substep hooks and observation updates.
-    direct = self._direct_observables() if self._substep_hooks_trivial() else None
+    direct = self._direct
     if direct is None:
       updater.prepare_for_next_control_step()
-      batched = self._substep_hooks_trivial() and self._nothing_due_before_last_substep()
+      batched = self._trivial_substeps and composer_internals.nothing_due_before_last_substep(
+          internals)
     else:
       batched = True   # plain observables are due at the last substep only
     try:
       if batched:
-        physics = self._physics
         data = physics.data
         if self._raw is None or self._raw[0] is not data:   # recompiled or reloaded
           self._raw = (data, raw_handles(physics))
-        advance(physics, self._n_sub_steps, self._raw[1])
+        advance(physics, n_sub_steps, self._raw[1])
         if direct is None:
-          updater._step_counter += self._n_sub_steps - 1   # the updates that had nothing due
+          composer_internals.skip_updates(internals, n_sub_steps - 1)
       else:
-        for i in range(self._n_sub_steps):
-          self._substep(action)
-          if i < self._n_sub_steps - 1:
+        for i in range(n_sub_steps):
+          internals.substep(action)
+          if i < n_sub_steps - 1:
             updater.update()
       divergent = False
     except control.PhysicsError as e:
       divergent = True
       self._termination_reason = str(e)
-      logging.warning("ikea_suite: episode ended at t=%.3f s: %s", self._physics.time(), e)
-    self._hooks.after_step(self._physics_proxy, self._random_state)
+      logging.warning("ikea_suite: episode ended at t=%.3f s: %s", physics.time(), e)
+    internals.hooks.after_step(proxy, random_state)
     if direct is None:
       updater.update()
     else:
       observation = {name: read() for name, read in direct}
+    task = internals.task
     if divergent:
       reward, discount, last = 0.0, 0.0, True
     else:
-      reward = self._task.get_reward(self._physics_proxy)
-      discount = self._task.get_discount(self._physics_proxy)
-      complete = self._task.should_terminate_episode(self._physics_proxy)
+      reward = task.get_reward(proxy)
+      discount = task.get_discount(proxy)
+      complete = task.should_terminate_episode(proxy)
       if complete:
         self._termination_reason = "complete"
-      last = complete or self._physics.time() >= self._time_limit
+      last = complete or physics.time() >= self._time_limit_s
     if direct is None:
       observation = updater.get_observation()
     if last:
-      self._reset_next_step = True
-      return dm_env.TimeStep(dm_env.StepType.LAST, reward, discount, observation)
-    return dm_env.TimeStep(dm_env.StepType.MID, reward, discount, observation)
+      self._reset_due = True
+      return dm_env.TimeStep(_LAST, reward, discount, observation)
+    return dm_env.TimeStep(_MID, reward, discount, observation)
+
+  def _composer_step(self, action):
+    """composer's own step of a checked action, with the episode's end and its reason noted."""
+    timestep = super().step(action)
+    if timestep.last():
+      self._reset_due = True
+      if self.task.should_terminate_episode(self.physics):
+        self._termination_reason = "complete"
+      elif timestep.discount == 0.0:   # composer logged the warnings that ended it
+        self._termination_reason = "Physics state is invalid (MuJoCo warnings, logged)"
+    return timestep

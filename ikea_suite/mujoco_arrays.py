@@ -1,4 +1,5 @@
-"""Cheap per-step reads of MuJoCo's arrays: views kept per MjData, id lists as slices.
+"""Cheap per-step reads of MuJoCo's arrays: views kept per MjData, id lists as slices, and
+observables whose reads the environment hands out without a second copy.
 
 A control step's Python runs with caches the physics has just flushed, and there a read costs
 mostly the code it passes through: dm_control's `physics.data.qpos` goes through two Python
@@ -10,6 +11,7 @@ fancy-indexing machinery. With kept views and slices the Panda's observations co
 import collections
 
 import numpy as np
+from dm_control.composer.observation import observable
 
 
 class ArrayViews:
@@ -45,3 +47,14 @@ def compact_index(ids):
   if flat.size and np.array_equal(flat, np.arange(flat[0], flat[0] + flat.size)):
     return slice(int(flat[0]), int(flat[0]) + flat.size)
   return flat
+
+
+class FreshGeneric(observable.Generic):
+  """observable.Generic whose callable returns a newly made array on every call (indexing by
+  an id array, np.empty, .copy(), .astype), never a view of the physics or a stored array.
+
+  The environment's direct observation path (composer_internals.direct_readers) copies each
+  value, as composer's buffers do, except these: nothing else holds them, so a copy would be
+  a second one (a few microseconds of each control step). tests/test_environment_internals.py
+  checks every one is fresh.
+  """

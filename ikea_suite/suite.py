@@ -60,12 +60,12 @@ def load(furniture: str | os.PathLike = DEFAULT_FURNITURE, robot: str = DEFAULT_
   """
   config.furniture_argument(furniture)
   seed = config.seed_argument(seed)
-  path = catalog.path_of(furniture)
+  spec = catalog.spec(furniture)
   robot_entry = registry.get(robot)
   task_config, robot_config = _configs(robot_entry, options)
   scale = task_config.scale
-  path = scaling.scaled_path(path, scale)
-  furniture_prop = furniture_lib.Furniture(path, scale=scale)
+  spec = scaling.scaled(spec, scale)
+  furniture_prop = furniture_lib.Furniture(spec)
   robot_entity = robot_entry.factory(config=robot_config, **_mount(task_config, robot_entry))
   arena = presets.make_arena(task_config.scene, task_config.arena,
                              base_pose=getattr(robot_entity, "base_pose", None))

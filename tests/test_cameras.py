@@ -165,7 +165,7 @@ class _CursorWithCamera(cursor.Cursor):
 
 def test_a_robot_can_contribute_named_cameras(gl):
   arena = floor.FloorArena()
-  furniture = furniture_lib.Furniture(catalog.path_of(ikea_suite.DEFAULT_FURNITURE))
+  furniture = furniture_lib.Furniture(catalog.spec(ikea_suite.DEFAULT_FURNITURE))
   robot = _CursorWithCamera()
   task = assembly.Assembly(arena=arena, furniture=furniture, robot=robot)
   assert set(camera_observables.named_cameras(arena, robot)) == {"front", "top", "side",

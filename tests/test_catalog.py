@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import ikea_suite
+from ikea_suite.assembly import sequence
 from ikea_suite.design import build
 from ikea_suite.design import family_models
 from ikea_suite.design import decompose
@@ -83,7 +84,7 @@ def test_identical_parts_are_interchangeable():
   """
   shared = mirrored = 0
   for entry in catalog.entries().values():
-    spec = model_format.load_spec(entry.path)
+    spec = catalog.spec(entry.name)
     groups = {}
     for part in spec.parts:
       groups.setdefault(_signature(part), []).append(part)
@@ -174,3 +175,19 @@ def test_content_key_depends_on_geometry_and_parameters():
   assert decompose.content_key(a) == decompose.content_key(shapes.frame(0.4, 0.5, 0.02, 0.05))
   assert decompose.content_key(a) != decompose.content_key(b)
   assert decompose.content_key(a) != decompose.content_key(a, {**decompose.PARAMS, "seed": 1})
+
+
+def test_a_furniture_flows_as_one_spec_from_the_catalog_to_the_task_and_the_sequencer():
+  spec = catalog.spec("table_four_leg_lack")
+  assert catalog.spec("table_four_leg_lack") is spec   # read once, by the catalog's scan
+  env = ikea_suite.load("table_four_leg_lack", "cursor", seed=0)
+  assert env.task.furniture.spec is spec and env.task.furniture.scale == 1.0
+  steps = sequence.plan(spec, env.task.root_part, sequence.HOLD_LIFT)
+  assert sequence.plan(spec, env.task.root_part, sequence.HOLD_LIFT) is steps   # planned once
+  assert env.task.assembly_order == (env.task.root_part,) + tuple(s.part for s in steps)
+  small = ikea_suite.load("table_four_leg_lack", "cursor", seed=0, scale=0.5).task.furniture
+  assert small.scale == 0.5 and small.spec.path == spec.path and small.spec is not spec
+  with pytest.raises(ikea_suite.UnknownNameError):
+    catalog.spec("no_such_table")
+  with pytest.raises(ikea_suite.OptionValueError, match="scale must be"):
+    catalog.spec("table_four_leg_lack", scale=9)

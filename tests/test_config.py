@@ -157,7 +157,7 @@ def test_a_reset_that_cannot_start_raises_a_suite_error():
       physics.model.body_inertia[1:] = 0.0
 
   for initializer, reason in ((Failing(), "no room"), (Massless(), "mjWARN_INERTIA")):
-    furniture = furniture_lib.Furniture(catalog.path_of(TABLE))
+    furniture = furniture_lib.Furniture(catalog.spec(TABLE))
     task = assembly.Assembly(arena=floor.FloorArena(), furniture=furniture,
                              robot=cursor.Cursor(), initializer=initializer)
     env = Environment(task, time_limit=1.0, random_state=0)
@@ -231,7 +231,7 @@ def test_the_layout_is_chosen_in_one_place():
   for robot, kind in (("cursor", "ScatteredParts"), ("sawyer", "ReachableParts")):
     env = ikea_suite.load(TABLE, robot, seed=0, scale=0.5 if robot != "cursor" else 1.0)
     assert type(env.task.initializer).__name__ == kind
-    furniture = furniture_lib.Furniture(catalog.path_of(TABLE))
+    furniture = furniture_lib.Furniture(catalog.spec(TABLE))
     entity = registry.get(robot).factory()
     task = assembly.Assembly(arena=floor.FloorArena(), furniture=furniture, robot=entity)
     assert type(task.initializer).__name__ == kind
@@ -257,7 +257,7 @@ def test_a_config_can_be_given_whole():
   robot_config = config.CursorConfig(move_speed=0.25)
   entity = cursor.Cursor(config=robot_config, rotate_speed=1.0)
   assert entity.config == dataclasses.replace(robot_config, rotate_speed=1.0)
-  furniture = furniture_lib.Furniture(catalog.path_of(TABLE))
+  furniture = furniture_lib.Furniture(catalog.spec(TABLE))
   task = assembly.Assembly(arena=floor.FloorArena(), furniture=furniture, robot=entity,
                            config=task_config)
   assert task.config.reward == "dense" and task.thresholds.up_cos == 0.95

@@ -1,40 +1,28 @@
-"""Pins what ikea_suite.environment relies on in dm_control 1.0.50's composer, and shows the
-batched-substep step gives exactly what composer's own step gives."""
+"""The batched-substep step gives exactly what composer's own step gives (what it reads of
+composer's private state is pinned in tests/test_composer_internals.py)."""
 
 import numpy as np
 import pytest
 from dm_control import composer
 from dm_control.rl import control
-from dm_control.composer.observation import updater as updater_lib
 
 import ikea_suite
+from ikea_suite import composer_internals
 from ikea_suite import environment
-from ikea_suite import fresh_observable
+from ikea_suite import mujoco_arrays
 
 FURNITURE = "table_four_leg_lack"
-
-
-def test_the_observation_updater_internals_it_reads_exist():
-  env = ikea_suite.load(FURNITURE, seed=0)
-  env.reset()
-  updater = env._observation_updater
-  assert isinstance(updater, updater_lib.Updater)
-  assert isinstance(updater._step_counter, int)
-  assert all(hasattr(entry, "update_schedule") for entry in updater._enabled_list)
-  assert updater._is_nested is False
-  assert set(updater._enabled_structure) == set(env.observation_spec())
-  assert all(isinstance(entry, updater_lib._EnabledObservable)
-             for entry in updater._enabled_structure.values())
 
 
 def test_default_observables_are_read_directly_and_others_through_the_buffers():
   env = ikea_suite.load(FURNITURE, seed=0)
   env.reset()
-  assert env._direct_observables() is not None
+  assert env._direct is not None
+  assert [name for name, _ in env._direct] == list(env.observation_spec())
   env.task.furniture.observables.part_positions.delay = 2
   env._recompile_physics_and_update_observables()
   env.reset()
-  assert env._direct_observables() is None
+  assert env._direct is None
 
 
 def _pair(configure=None, robot="cursor"):
@@ -86,14 +74,11 @@ def test_batched_substeps_match_composers_step_with_an_arm():
   _assert_same(_rollout(ours, actions), _rollout(plain, actions))
 
 
-def test_the_physics_internals_advance_relies_on_exist():
+def test_the_raw_handles_are_the_physics_own():
   env = ikea_suite.load(FURNITURE, seed=0)
   env.reset()
   physics = env.physics
   assert physics.legacy_step is True
-  assert physics._warnings_cause_exception is True
-  with physics.suppress_physics_errors():
-    assert physics._warnings_cause_exception is False
   handles = environment.raw_handles(physics)
   assert handles[0] is physics.model.ptr and handles[1] is physics.data.ptr
   assert handles[2].base is not None   # a view: the counts MuJoCo writes, not a copy
@@ -140,8 +125,9 @@ def test_every_fresh_observable_makes_a_new_array_on_every_read(robot):
   env = ikea_suite.load(FURNITURE, robot, seed=0)
   env.reset()
   physics = env.physics
-  fresh = {name: e for name, e in env._observation_updater._enabled_structure.items()
-           if isinstance(e.observable, fresh_observable.FreshGeneric)}
+  internals = composer_internals.read(env)
+  fresh = {name: e for name, e in internals.updater._enabled_structure.items()
+           if isinstance(e.observable, mujoco_arrays.FreshGeneric)}
   assert len(fresh) >= 6
   state = [physics.data.qpos, physics.data.qvel, physics.data.xpos, physics.data.xquat,
            physics.data.site_xpos, physics.data.site_xmat]

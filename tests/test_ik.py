@@ -35,60 +35,6 @@ def test_frame_residual_is_minks_error_and_jlog(angle):
     np.testing.assert_allclose(factor, (target.inverse() @ frame).jlog(), atol=1e-10)
 
 
-_NOT_BUILT = pytest.mark.skipif(ik_qp.compiled is None,
-                                reason="the optional compiled _ik_kernels was not built")
-
-
-@_NOT_BUILT
-def test_the_compiled_frame_rows_agrees_with_the_python_to_the_bit():
-  # Every branch: each of _quaternion's four, turns from none (t2 < EPS) and tiny through
-  # a half turn, identity and random site rotations, zero and unequal costs.
-  rng = np.random.default_rng(7)
-  angles = [0.0, 1e-9, 1e-6, 1e-3, 0.3, 1.5, 2.9, np.pi - 1e-6, np.pi]
-  axes = [np.eye(3)[i] for i in range(3)] + [rng.normal(size=3) for _ in range(4)]
-  checked = 0
-  for angle in angles:
-    for axis in axes:
-      for rot in (np.eye(3), _random_rotation(rng)):
-        target_rot = rot @ mink.SO3.exp(angle * axis / np.linalg.norm(axis)).as_matrix()
-        args = (rng.normal(size=3).tolist(), rot.ravel().tolist(),
-                rng.normal(size=3).tolist(), target_rot.ravel().tolist(),
-                [1.0, 1.0, 1.0, 0.5, 0.5, 0.5] if checked % 3 else rng.uniform(0, 2, 6).tolist())
-        python, compiled = ik_qp.frame_rows(*args), ik_qp.compiled.frame_rows(*args)
-        for ours, theirs in zip(python, compiled):   # hex: signed zeros and every bit
-          assert [v.hex() for v in ours] == [v.hex() for v in theirs]
-        checked += 1
-  assert checked == len(angles) * len(axes) * 2
-  with pytest.raises(ValueError, match="mat must hold 9"):
-    ik_qp.compiled.frame_rows([0.0] * 3, [0.0] * 8, [0.0] * 3, [0.0] * 9, [1.0] * 6)
-
-
-@_NOT_BUILT
-@pytest.mark.parametrize("robot", ARMS)
-def test_the_compiled_assembly_agrees_with_the_python_to_the_bit(robot):
-  # Random states, some beyond the joint limits (bounds that cross), with and without the
-  # velocity limit (capped and infinite bounds).
-  ik = registry.get(robot).factory().ik
-  qp, model = ik._qp, ik.model
-  low = np.where(model.jnt_limited, model.jnt_range[:, 0], -np.pi)
-  high = np.where(model.jnt_limited, model.jnt_range[:, 1], np.pi)
-  rng = np.random.default_rng(1)
-  qp.set_posture_target(rng.uniform(low, high))
-  for trial in range(20):
-    q = rng.uniform(low - 0.1, high + 0.1)
-    targets = ik.tcp_poses(rng.uniform(low, high))
-    results = []
-    for compiled in (True, False):
-      qp.use_compiled = compiled
-      results.append(qp.assemble(q, targets, 0.05, velocity_limited=trial % 2 == 0))
-    for ours, numpy_made in zip(*results):
-      assert ours.tobytes() == numpy_made.tobytes()
-  with pytest.raises(TypeError, match="q must be 7 contiguous float64"):
-    ik_qp.compiled.qp_finish(np.zeros((7, 7)), np.zeros(7), np.zeros(7, dtype=np.float32),
-                             np.zeros((7, 7)), np.zeros(7), np.zeros(7), 1.0,
-                             *[np.zeros(7) for _ in range(6)])
-
-
 @pytest.mark.parametrize("robot", ARMS)
 def test_step_gives_minks_joint_vector(robot):
   """Random states (some beyond the joint limits) and targets near and far, with and

@@ -65,7 +65,7 @@ def test_parts_in_a_corner_leave_it_along_the_diagonal_between_its_walls(tmp_pat
   spec = model_format.load_spec(str(result.path))
   root = planner.root_part(spec)
   assert spec.parts[root].name == "side"
-  steps = sequence.plan(str(result.path), root, sequence.HOLD_LIFT)
+  steps = sequence.plan(spec, root, sequence.HOLD_LIFT)
   names = [spec.parts[s.part].name for s in steps]
   assert sorted(names) == ["back", "shelf0", "shelf1"] and names[-1] == "back"
   entry = np.asarray(steps[-1].waypoints[0])   # the back goes in last, along +x+y

@@ -19,7 +19,7 @@ from ikea_suite.props import model_format
 
 
 def _specs():
-  return [model_format.load_spec(e.path) for e in catalog.entries().values()]
+  return [catalog.spec(name) for name in catalog.entries()]
 
 
 def test_every_catalog_model_weighs_what_its_category_allows_for_its_size():
@@ -43,7 +43,7 @@ def test_ranges_come_from_the_reference_figures_and_scale_with_surface():
 
 
 def test_the_lack_style_side_table_weighs_like_the_real_one():
-  spec = model_format.load_spec(catalog.path_of("table_four_leg_lack"))
+  spec = catalog.spec("table_four_leg_lack")
   top = spec.parts[spec.part_index("top")].mass
   assert 2.0 <= top <= 3.0          # PHYSICS.md: a 55 x 55 x 5 cm honeycomb top 2-3 kg
   assert 150 <= top / (0.55 * 0.55 * 0.05) <= 300   # PHYSICS.md: 150-300 kg/m^3 effective
@@ -54,7 +54,7 @@ def test_the_lack_style_side_table_weighs_like_the_real_one():
 
 
 def test_steel_shelving_weighs_its_metal_not_its_bounding_box():
-  spec = model_format.load_spec(catalog.path_of("shelving_posts_steel_wide"))
+  spec = catalog.spec("shelving_posts_steel_wide")
   shelf = spec.parts[spec.part_index("shelf0")].mass
   # 1.0 x 0.5 m of 0.8 mm sheet plus 2 cm lips round it, at 7850 kg/m^3.
   sheet = 7850 * 0.0008 * (1.0 * 0.5 + 2 * (1.0 + 0.5) * 0.0192)
@@ -116,9 +116,8 @@ def test_plates_and_honeycomb_reject_shapes_they_cannot_be():
 @pytest.mark.parametrize("name", ["table_four_leg_lack", "shelving_posts_steel_wide",
                                   "desk_side_unit_w160_dark", "chair_frame_back_oak"])
 def test_plain_mujoco_and_the_environment_use_the_files_inertial(name):
-  path = catalog.path_of(name)
-  spec = model_format.load_spec(path)
-  model = mujoco.MjModel.from_xml_path(path)
+  spec = catalog.spec(name)
+  model = mujoco.MjModel.from_xml_path(spec.path)
   env = ikea_suite.load(name, "cursor", seed=0)
   ids = env.task.furniture.body_ids
   for k, part in enumerate(spec.parts):
@@ -139,7 +138,7 @@ def test_mass_table_is_current_and_reports_the_largest_welded_ratio():
   table = mass_report.rows()
   assert [r["name"] for r in table] == list(catalog.entries())
   top = mass_report.largest_ratio(table)
-  spec = model_format.load_spec(catalog.path_of(top["name"]))
+  spec = catalog.spec(top["name"])
   heavy, light = (spec.parts[spec.part_index(name)] for name in top["pair"].split(" / "))
   assert top["ratio"] == pytest.approx(heavy.mass / light.mass) and top["ratio"] > 1.0
   print(f"largest welded-neighbour mass ratio: {top['ratio']:.1f}:1 in {top['name']} "

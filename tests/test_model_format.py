@@ -97,3 +97,24 @@ def test_every_committed_model_validates_and_loads_in_plain_mujoco(path):
   model = mujoco.MjModel.from_xml_path(str(path))
   assert model.nbody == len(spec.parts) + 1
   assert len(spec.parts) >= 2 and spec.connectors
+
+
+def test_a_document_compiles_from_memory_wherever_the_process_runs(tmp_path, monkeypatch):
+  """read_document makes the file's asset folders absolute: the spec's document (which the
+  sequencer and the scaled furniture compile) finds the meshes from any working folder."""
+  import re
+  import shutil
+  source = paths.furniture_dir() / "table_four_leg_lack.xml"
+  text = source.read_text()
+  (tmp_path / "meshes").mkdir()
+  meshes = re.findall(r'file="([^"]+)"', text)
+  assert meshes
+  for mesh in meshes:
+    shutil.copy(paths.furniture_dir() / "meshes" / mesh, tmp_path / "meshes" / mesh)
+  (tmp_path / "copy.xml").write_text(text)
+  elsewhere = tmp_path / "elsewhere"
+  elsewhere.mkdir()
+  monkeypatch.chdir(elsewhere)
+  spec = model_format.load_spec(str(tmp_path / "copy.xml"))
+  assert spec.compiler["meshdir"] == str((tmp_path / "meshes").resolve())
+  assert model_format.compile_model(spec).nmesh == len(set(meshes))

@@ -103,6 +103,29 @@ def test_task_space_rotation_turns_tool_about_world_z():
   assert abs(np.arctan2(turn[1, 0], turn[0, 0]) - 0.6) < 0.03
 
 
+def test_task_space_targets_move_turn_and_stay_near_the_tool_and_in_the_workspace():
+  """A delta target moves max_translation per unit action and turns max_rotation about the
+  world axes; it stays within max_lag of the measured tool and inside its workspace box."""
+  workspace = [[[-1.0, -1.0, 0.0], [1.0, 1.0, 0.5]]] * 2
+  targets = control_modes.TaskSpaceTargets(2, 0.02, 0.1, workspace, max_lag=0.1)
+  targets.reset([([0.2, 0.0, 0.3], np.eye(3)), ([0.0, 0.3, 0.3], np.eye(3))])
+  tools = targets.pos
+  targets.apply_deltas(np.array([[1.0, -0.5, 0.0, 0.0, 0.0, 1.0, -1.0],
+                                 [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]]), tools)
+  np.testing.assert_allclose(targets.pos, [[0.22, -0.01, 0.3], [0.0, 0.3, 0.3]], atol=1e-15)
+  np.testing.assert_allclose(targets.rot[0], ikea_suite.geometry.rot_z(0.1), atol=1e-15)
+  np.testing.assert_array_equal(targets.rot[1], np.eye(3))   # no turn: the rotation as it was
+  for _ in range(20):   # pushed on while the tools stay put: held 0.1 m ahead of them
+    targets.apply_deltas(np.array([[1.0, 0, 0, 0, 0, 0, 0], [0, 0, 1.0, 0, 0, 0, 0]]), tools)
+  np.testing.assert_allclose(np.linalg.norm(targets.pos[0] - tools[0]), 0.1, atol=1e-12)
+  for _ in range(20):   # the tool follows: the target meets the box's top at 0.5 m
+    targets.apply_deltas(np.array([[0, 0, 0, 0, 0, 0, 0], [0, 0, 1.0, 0, 0, 0, 0]]), targets.pos)
+  assert targets.pos[1, 2] == 0.5
+  kept = targets.pos
+  kept[:] = 9.0   # a copy
+  assert np.all(targets.pos < 1.0)
+
+
 def test_task_space_pose_reaches_absolute_target():
   env = ikea_suite.load("table_four_leg_lack", "panda", seed=0, control_mode="task_space_pose")
   env.reset()

@@ -269,7 +269,7 @@ def test_an_initializer_that_names_no_preassembled_pairs_is_refused():
   class Plain(composer.Initializer):   # poses parts but says nothing of preassembled pairs
     def __call__(self, physics, random_state):
       pass
-  furniture = furniture_lib.Furniture(catalog.path_of(TABLE))
+  furniture = furniture_lib.Furniture(catalog.spec(TABLE))
   with pytest.raises(ikea_suite.IkeaSuiteError, match="PartInitializer"):
     assembly.Assembly(arena=floor.FloorArena(), furniture=furniture, robot=cursor.Cursor(),
                       initializer=Plain())

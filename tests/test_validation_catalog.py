@@ -88,9 +88,9 @@ def test_a_connector_without_a_mate_fails_the_format_check(tmp_path):
 @pytest.mark.parametrize("name", ["bookcase_shelf_unit_w80_h106_white", "dresser_chest_four_white",
                                   "table_coffee_shelf_w90_birch", "bed_slatted_kids_white"])
 def test_assembly_sequences_insert_every_part_along_a_free_path(name):
-  spec = model_format.load_spec(catalog.path_of(name))
+  spec = catalog.spec(name)
   root = planner.root_part(spec)
-  steps = sequence.plan(catalog.path_of(name), root)
+  steps = sequence.plan(spec, root)
   assert sorted(s.part for s in steps) == sorted(set(range(len(spec.parts))) - {root})
   for s in steps:
     assert np.allclose(s.waypoints[-1], 0) and len(s.waypoints) >= 2
@@ -103,9 +103,8 @@ def test_assembly_sequences_insert_every_part_along_a_free_path(name):
 
 
 def test_sequences_put_shelves_in_before_the_closing_side_panel():
-  path = catalog.path_of("bookcase_shelf_unit_w80_h106_white")
-  spec = model_format.load_spec(path)
-  order = [spec.parts[s.part].name for s in sequence.plan(path, planner.root_part(spec))]
+  spec = catalog.spec("bookcase_shelf_unit_w80_h106_white")
+  order = [spec.parts[s.part].name for s in sequence.plan(spec, planner.root_part(spec))]
   assert order.index("side1") > max(order.index(n) for n in order if n.startswith("shelf"))
 
 

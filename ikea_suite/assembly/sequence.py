@@ -9,13 +9,14 @@ out (a leg drops from under a table top, then moves out). Read backwards this
 is an assembly order in which every part goes in along a free path. The root
 part (the one the oracle holds) stays to the end.
 
-Plain MuJoCo on the model file does the collision tests; nothing here needs
-the task or an environment.
+Plain MuJoCo on the furniture's document (the spec's, scaled as it is) does the
+collision tests; nothing here needs the task or an environment. A plan is kept
+with the spec it was made for, so every user of one spec plans it once.
 """
 
 import dataclasses
-import functools
 import logging
+import weakref
 
 import mujoco
 import numpy as np
@@ -57,10 +58,10 @@ class Step:
 
 
 class _Scene:
-  """The model file in plain MuJoCo, with parts moved in and out of the scene by qpos."""
+  """The furniture in plain MuJoCo, with parts moved in and out of the scene by qpos."""
 
   def __init__(self, spec, lift):
-    self.model = mujoco.MjModel.from_xml_path(spec.path)
+    self.model = model_format.compile_model(spec)
     physics_settings.configure_model(self.model)
     self.model.geom_margin[:] = 2 * LOOSE   # report near misses, not only overlaps
     self.air = CLEARANCE
@@ -141,13 +142,27 @@ def _exit_path(scene, part, present):
   return None
 
 
-@functools.lru_cache(maxsize=64)
-def plan(path, root, lift=0.15):
+# FurnitureSpec -> {(root, lift): steps}, for as long as the spec lives.
+_PLANS = weakref.WeakKeyDictionary()
+
+
+def plan(spec, root: int, lift: float = 0.15) -> tuple:
   """Insertion steps for every part but `root`, in assembly order; raises SequenceError if stuck.
 
-  `path` is a furniture model file; `root` the index of the part held still.
+  Args:
+    spec: the furniture's FurnitureSpec (at the size it is built).
+    root: index of the part held still.
+    lift: metres the assembly is held above the floor.
+  Returns:
+    A tuple of Step, computed once per spec, root and lift.
   """
-  spec = model_format.load_spec(str(path))
+  plans = _PLANS.setdefault(spec, {})
+  if (root, lift) not in plans:
+    plans[root, lift] = _plan(spec, root, lift)
+  return plans[root, lift]
+
+
+def _plan(spec, root, lift):
   scene = _Scene(spec, lift)
   edges = model_format.coinciding_pairs(spec)
   present = set(range(len(spec.parts)))
@@ -188,7 +203,7 @@ def assembly_order(spec, root):
   sequencer finds none, e.g. for a user's model without free insertion paths); what
   next_pair follows in the CPU and the batched task."""
   try:
-    steps = plan(spec.path, root, HOLD_LIFT)
+    steps = plan(spec, root, HOLD_LIFT)
   except errors.SequenceError as e:
     logging.warning("%s; next_pair follows part order instead", e)
     return (root,) + tuple(i for i in range(len(spec.parts)) if i != root)

@@ -104,12 +104,11 @@ def build(furniture):
   Returns:
     A BatchModel.
   """
-  path = catalog.path_of(furniture)
-  spec = model_format.load_spec(path)
+  spec = catalog.spec(furniture)
   table = connector_table.ConnectorTable(spec)
   welds = weld_table_lib.build(table)
   part_names = [p.name for p in spec.parts]
-  mj_spec = mujoco.MjSpec.from_file(path)
+  mj_spec = mujoco.MjSpec.from_string(model_format.to_xml(spec.document))
   for eq in list(mj_spec.equalities):   # the file's design welds; ours are declared below
     mj_spec.delete(eq)
   _strip_visuals(mj_spec, set(part_names))

@@ -15,7 +15,6 @@ import sys
 
 from ikea_suite.design import mass_ranges
 from ikea_suite.props import catalog
-from ikea_suite.props import model_format
 
 DOC = pathlib.Path(__file__).resolve().parents[2] / "docs" / "catalog.md"
 
@@ -24,7 +23,7 @@ def rows():
   """One dict per catalog model, in name order."""
   out = []
   for entry in catalog.entries().values():
-    spec = model_format.load_spec(entry.path)
+    spec = catalog.spec(entry.name)
     low, high = mass_ranges.plausible(entry.category, spec.extents())
     ratio, heavy, light = mass_ranges.welded_mass_ratios(spec)[0]
     out.append(dict(name=entry.name, category=entry.category, parts=entry.num_parts,

@@ -194,7 +194,7 @@ class CursorOracle:
   def _sequence(self):
     if self._plan is None:
       task = self._env.task
-      self._plan = sequence.plan(task.furniture.spec.path, task.root_part, self._lift)
+      self._plan = sequence.plan(task.furniture.spec, task.root_part, self._lift)
     return self._plan
 
   def _next_step(self):

@@ -9,6 +9,10 @@ A user adds a directory of model files with `register_models(directory)`;
 its models join the catalog under their file stems. A file that fails the
 format loader, or whose name is already taken, affects only itself: it is
 left out of the catalog and listed by `invalid_models()` with the reason.
+
+`spec(name, scale)` hands out the FurnitureSpec the scan read (scaled in
+memory where asked): load() builds a furniture from it without reading the
+file again.
 """
 
 import dataclasses
@@ -17,8 +21,10 @@ import os
 import pathlib
 
 from ikea_suite import errors
+from ikea_suite.props import furniture_spec
 from ikea_suite.props import model_format
 from ikea_suite.props import paths
+from ikea_suite.props import scaling
 
 
 @dataclasses.dataclass(frozen=True)
@@ -68,18 +74,20 @@ def _entry(path, spec):
 
 @functools.lru_cache(maxsize=1)
 def _scan():
-  """(name -> Entry, [InvalidModel]) over the committed models and every registered directory."""
-  valid, invalid = {}, []
+  """(name -> Entry, [InvalidModel], name -> FurnitureSpec) over the committed models and
+  every registered directory."""
+  valid, invalid, specs = {}, [], {}
   for directory in [paths.furniture_dir(), *_registered]:
     for path in sorted(directory.glob("*.xml")):
       try:
         if path.stem in valid:
           raise errors.ModelFormatError(path, "<file>", f"the name {path.stem!r} is already "
                                         f"taken by {valid[path.stem].path}")
-        valid[path.stem] = _entry(path, model_format.load_spec(str(path)))
+        specs[path.stem] = model_format.load_spec(str(path))
+        valid[path.stem] = _entry(path, specs[path.stem])
       except errors.ModelFormatError as e:
         invalid.append(InvalidModel(path.stem, str(path), e))
-  return dict(sorted(valid.items())), invalid
+  return dict(sorted(valid.items())), invalid, specs
 
 
 def entries():
@@ -114,8 +122,7 @@ def register_models(directory: str | os.PathLike) -> list[str]:
     raise errors.ModelFormatError(directory, "<directory>", "no such directory to register")
   if directory not in _registered:
     _registered.append(directory)
-  _scan.cache_clear()
-  model_format.load_spec.cache_clear()   # files may have changed since they were read
+  _scan.cache_clear()   # files may have changed since they were read
   return sorted(name for name, e in entries().items() if pathlib.Path(e.path).parent == directory)
 
 
@@ -197,12 +204,39 @@ def path_of(name: str | os.PathLike) -> str:
       invalid_models() (the error says why).
     UnknownNameError: anything else that is not a catalog name.
   """
+  return spec(name).path if _looks_like_path(name) else _entry_of(name).path
+
+
+def spec(name: str | os.PathLike, scale: float = 1.0) -> furniture_spec.FurnitureSpec:
+  """The furniture of a catalog name or model file, read and validated, at `scale`.
+
+  A catalog name gives the spec the catalog read (one object, shared: nothing changes a
+  spec); a path is read now. At a scale other than 1 a scaled spec is built in memory.
+
+  Args:
+    name: a catalog name (see names()) or the path (str or PathLike) of a model file.
+    scale: size factor (scaling.check_scale): lengths x scale, masses x scale^3.
+
+  Returns:
+    The FurnitureSpec.
+
+  Raises:
+    ModelFormatError: the path is not a valid model file, or the name is one of
+      invalid_models() (the error says why).
+    UnknownNameError: anything else that is not a catalog name.
+    OptionValueError: a scale out of range.
+  """
   if _looks_like_path(name):
-    path = str(pathlib.Path(name).expanduser())
-    model_format.load_spec(path)   # raises ModelFormatError naming the file and the fault
-    return path
+    found = model_format.load_spec(str(pathlib.Path(name).expanduser()))
+  else:
+    found = _scan()[2][_entry_of(name).name]
+  return scaling.scaled(found, scale)
+
+
+def _entry_of(name):
+  """The Entry of a catalog name; raises as path_of does for a name that is not one."""
   if name in entries():
-    return entries()[name].path
+    return entries()[name]
   broken = [m for m in _scan()[1] if m.name == name]
   if broken:
     raise broken[0].error

@@ -5,7 +5,6 @@ import numpy as np
 from dm_control import composer
 from dm_control import mjcf
 
-from ikea_suite import fresh_observable
 from ikea_suite import mujoco_arrays
 from ikea_suite.props import connector_table
 from ikea_suite.props import model_format
@@ -13,7 +12,7 @@ from ikea_suite.props import part as part_lib
 
 
 class Furniture(composer.Entity):
-  """A furniture model read from its MJCF file.
+  """A furniture model, built from its FurnitureSpec.
 
   The entity itself holds no bodies: each part is its own `Part` entity which
   `attach_to` adds to an arena as a free body (MuJoCo allows free joints only
@@ -21,10 +20,9 @@ class Furniture(composer.Entity):
   task's alignment check is pure numpy.
   """
 
-  def _build(self, path, scale=1.0):
-    """Args: path: the model file (already scaled, see props/scaling.py); scale: its size factor."""
-    self._scale = float(scale)
-    self._spec = model_format.load_spec(str(path))
+  def _build(self, spec):
+    """Args: spec: the furniture's FurnitureSpec (catalog.spec), at the size it is built."""
+    self._spec = spec
     self._mjcf_root = mjcf.RootElement(model=self._spec.name)
     self._parts = [part_lib.Part(p, self._spec) for p in self._spec.parts]
     self._connectors = connector_table.ConnectorTable(self._spec)
@@ -73,7 +71,7 @@ class Furniture(composer.Entity):
   @property
   def scale(self):
     """Size factor of this furniture relative to its design (the `scale` load option)."""
-    return self._scale
+    return self._spec.scale
 
   @property
   def name(self):
@@ -121,8 +119,8 @@ class FurnitureObservables(composer.Observables):
 
   @composer.observable
   def part_positions(self):
-    return fresh_observable.FreshGeneric(self._entity.part_positions)
+    return mujoco_arrays.FreshGeneric(self._entity.part_positions)
 
   @composer.observable
   def part_quaternions(self):
-    return fresh_observable.FreshGeneric(self._entity.part_quaternions)
+    return mujoco_arrays.FreshGeneric(self._entity.part_quaternions)

@@ -1,7 +1,9 @@
 """Plain data describing one furniture model, as read from its MJCF file.
 
 Nothing here needs a simulator: the loader fills these from XML, the prop and
-the task turn them into entities, welds and numpy arrays.
+the task turn them into entities, welds and numpy arrays. A FurnitureSpec is
+read once (props/catalog.spec) and handed down as it is, scaled in memory
+(props/scaling.py), to the prop, the task, the sequencer and the experts.
 """
 
 import dataclasses
@@ -49,16 +51,19 @@ class PartSpec:
     return geometry.box_corners(*self.bounds) @ self.rot.T + self.pos
 
 
-@dataclasses.dataclass(frozen=True)
+# Compared and hashed by identity: sequence.plan keeps its results per spec object.
+@dataclasses.dataclass(frozen=True, eq=False)
 class FurnitureSpec:
   """A furniture model: parts, connectors and the file's metadata."""
   name: str
-  path: str
+  path: str                 # the model file it was read from
   parts: tuple
   connectors: tuple
   metadata: dict
   assets: ET.Element        # the file's <asset> element (may be empty)
-  compiler: dict            # attributes of <compiler>, e.g. meshdir
+  compiler: dict            # attributes of <compiler>, e.g. meshdir (folders absolute)
+  document: ET.Element      # the whole <mujoco> element the rest was read from, as scaled
+  scale: float = 1.0        # size factor of `document` against the file (props/scaling.py)
 
   @property
   def mass(self):

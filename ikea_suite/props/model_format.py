@@ -7,10 +7,16 @@ entry whose data is `type=T; mates=M; twists=0 90 180 270` (degrees; omit
 `twists` or leave it empty to allow any twist). Furniture-wide metadata sits in
 <text name="furniture" data="category=...; ...">. Plain MuJoCo loads the file
 and shows the assembled furniture.
+
+A file is read into its document (read_document: the parsed <mujoco> element
+with its asset folders made absolute, so it compiles from memory anywhere) and
+the document into a FurnitureSpec (spec_from_document), which carries the
+document along: the scaled furniture (props/scaling.py) and the sequencer's
+collision scene (compile_model) are made from it, never from the file again.
 """
 
-import functools
 import math
+import os
 import pathlib
 import xml.etree.ElementTree as ET
 
@@ -73,11 +79,27 @@ def _parse_twists(text, path, label):
   return tuple(math.radians(d) for d in degrees)
 
 
-def _compile(path):
+def to_xml(document: ET.Element) -> str:
+  """A document (read_document's, a spec's) as MJCF text that compiles from memory."""
+  return ET.tostring(document, encoding="unicode")
+
+
+def _compile(document, path):
   try:
-    return mujoco.MjModel.from_xml_path(str(path))
+    return mujoco.MjModel.from_xml_string(to_xml(document))
   except ValueError as e:
     raise errors.ModelFormatError(path, "<mujoco>", f"plain MuJoCo cannot load it: {e}") from None
+
+
+def compile_model(spec: furniture_spec.FurnitureSpec) -> mujoco.MjModel:
+  """The furniture as plain MuJoCo compiles it (its assembled pose), from the spec's document.
+
+  Args:
+    spec: a FurnitureSpec.
+  Returns:
+    A mujoco.MjModel.
+  """
+  return _compile(spec.document, spec.path)
 
 
 def collision_geoms(model, body_ids):
@@ -220,9 +242,31 @@ def coinciding_pairs(spec):
                  for a, b in spec.assembled_connector_pairs()})
 
 
-@functools.lru_cache(maxsize=256)
-def load_spec(path):
-  """Parses and validates a furniture file; raises ModelFormatError on any fault."""
+def _anchor_folders(root, model_dir):
+  """Makes the <compiler>'s asset folders absolute (the file's own folder where it names
+  none), so that the document compiles from memory as it does from its file."""
+  compiler = root.find("compiler")
+  if compiler is None:
+    compiler = ET.SubElement(root, "compiler")
+  for key in ("meshdir", "texturedir", "assetdir"):
+    if compiler.get(key) is not None and not os.path.isabs(compiler.get(key)):
+      compiler.set(key, str((model_dir / compiler.get(key)).resolve()))
+  if compiler.get("assetdir") is None:
+    for key in ("meshdir", "texturedir"):
+      if compiler.get(key) is None:
+        compiler.set(key, str(model_dir.resolve()))
+
+
+def read_document(path: str | os.PathLike) -> ET.Element:
+  """The parsed <mujoco> element of a furniture file, asset folders made absolute.
+
+  Args:
+    path: the model file.
+  Returns:
+    An xml.etree.ElementTree.Element.
+  Raises:
+    ModelFormatError: no such file, XML that is not well-formed, or another root element.
+  """
   path = pathlib.Path(path)
   if not path.is_file():
     raise errors.ModelFormatError(path, "<file>", "no such file")
@@ -232,8 +276,26 @@ def load_spec(path):
     raise errors.ModelFormatError(path, "<file>", f"not well-formed XML: {e}") from None
   if root.tag != "mujoco":
     raise errors.ModelFormatError(path, f"<{root.tag}>", "root element must be <mujoco>")
+  _anchor_folders(root, path.parent)
+  return root
+
+
+def spec_from_document(root: ET.Element, path: str | os.PathLike,
+                       scale: float = 1.0) -> furniture_spec.FurnitureSpec:
+  """Validates a furniture document (read_document's, perhaps scaled) into its FurnitureSpec.
+
+  Args:
+    root: the <mujoco> element; the spec keeps it (and its part elements) as they are.
+    path: the model file it was read from, named in errors.
+    scale: the size factor `root` was scaled by against the file.
+  Returns:
+    The FurnitureSpec.
+  Raises:
+    ModelFormatError: on any fault, naming the file and the element.
+  """
+  path = pathlib.Path(path)
   _check_names_unique(root, path)
-  model = _compile(path)
+  model = _compile(root, path)
   texts = _read_texts(root, path)
   parts = _read_parts(root, model, path)
   connectors = _read_connectors(parts, texts, path)
@@ -246,4 +308,18 @@ def load_spec(path):
       connectors=tuple(sorted(connectors, key=lambda c: c.name)),
       metadata=parse_key_values(texts.get(FURNITURE_TEXT, ""), path, f"<text name={FURNITURE_TEXT!r}>"),
       assets=root.find("asset") if root.find("asset") is not None else ET.Element("asset"),
-      compiler=dict(compiler.attrib) if compiler is not None else {})
+      compiler=dict(compiler.attrib) if compiler is not None else {},
+      document=root, scale=float(scale))
+
+
+def load_spec(path: str | os.PathLike) -> furniture_spec.FurnitureSpec:
+  """Reads and validates a furniture file into its FurnitureSpec (at the file's own size).
+
+  Args:
+    path: the model file.
+  Returns:
+    The FurnitureSpec.
+  Raises:
+    ModelFormatError: on any fault, naming the file and the element.
+  """
+  return spec_from_document(read_document(path), path)

@@ -1,4 +1,4 @@
-"""Physically scaled copies of furniture model files (the `scale` load option).
+"""Furniture built larger or smaller (the `scale` load option), in memory.
 
 A furniture at scale s is the same design built s times as large from the
 same materials: every length (body, geom, site and inertial positions, geom
@@ -7,21 +7,20 @@ masses by s^3 and inertia tensors by s^5. Connector sites are positions too,
 so they scale with the parts. Arms assemble tabletop-sized furniture this way,
 as FurnitureBench does with its miniature furniture.
 
-The scaled file is written once per (file, scale) into a cache folder next to
-nothing else, with mesh and texture folders made absolute, and read by the
-ordinary loader: everything downstream sees an ordinary model file.
+`scaled` scales a copy of the spec's document (each number written back as
+repr(float(v) * factor), which reads back as exactly that product) and
+validates it into a new FurnitureSpec: everything downstream sees an ordinary
+spec, built in memory.
 """
 
-import hashlib
-import os
-import pathlib
-import tempfile
+import copy
 import xml.etree.ElementTree as ET
 
 from ikea_suite import errors
+from ikea_suite.props import furniture_spec
+from ikea_suite.props import model_format
 
 MIN_SCALE, MAX_SCALE = 0.2, 2.0
-_CACHE = pathlib.Path(tempfile.gettempdir()) / "ikea_suite_scaled"
 
 
 def check_scale(scale: float) -> float:
@@ -46,22 +45,13 @@ def _times(text, factor):
   return " ".join(repr(float(v) * factor) for v in text.split())
 
 
-def scale_tree(root: ET.Element, scale: float, model_dir: pathlib.Path) -> None:
-  """Scales a parsed furniture file in place (lengths s, masses s^3, inertias s^5).
+def scale_tree(root: ET.Element, scale: float) -> None:
+  """Scales a furniture document in place (lengths s, masses s^3, inertias s^5).
 
   Args:
-    root: the <mujoco> element.
+    root: the <mujoco> element (model_format.read_document's: asset folders absolute).
     scale: size factor.
-    model_dir: folder of the original file; relative mesh/texture folders become absolute.
   """
-  compiler = root.find("compiler")
-  if compiler is None:
-    compiler = ET.SubElement(root, "compiler")
-  for key in ("meshdir", "texturedir", "assetdir"):
-    if compiler.get(key) is not None and not os.path.isabs(compiler.get(key)):
-      compiler.set(key, str((model_dir / compiler.get(key)).resolve()))
-  if compiler.get("meshdir") is None and compiler.get("assetdir") is None:
-    compiler.set("meshdir", str(model_dir.resolve()))
   for mesh in root.iter("mesh"):
     mesh.set("scale", _times(mesh.get("scale", "1 1 1"), scale))
   worldbody = root.find("worldbody")
@@ -83,27 +73,19 @@ def scale_tree(root: ET.Element, scale: float, model_dir: pathlib.Path) -> None:
           element.set(key, _times(element.get(key), scale ** 5))
 
 
-def scaled_path(path: str, scale: float) -> str:
-  """Path of the model file `path` scaled by `scale` (the file itself at scale 1).
+def scaled(spec: furniture_spec.FurnitureSpec, scale: float) -> furniture_spec.FurnitureSpec:
+  """The furniture of `spec` built `scale` times as large (`spec` itself at scale 1).
 
   Args:
-    path: a furniture model file.
-    scale: size factor, checked with check_scale.
+    spec: a FurnitureSpec (catalog.spec, model_format.load_spec).
+    scale: size factor against `spec`, checked with check_scale.
   Returns:
-    The path of a model file of the scaled furniture.
+    A FurnitureSpec whose `scale` is spec.scale * scale, read from a scaled copy of
+    spec.document.
   """
   scale = check_scale(scale)
   if scale == 1.0:
-    return str(path)
-  source = pathlib.Path(path)
-  text = source.read_text()
-  digest = hashlib.sha1(f"{source.resolve()}|{scale!r}|{text}".encode()).hexdigest()[:12]
-  target = _CACHE / f"{source.stem}_x{scale:g}_{digest}.xml"
-  if not target.exists():
-    root = ET.fromstring(text)
-    scale_tree(root, scale, source.parent)
-    _CACHE.mkdir(parents=True, exist_ok=True)
-    with tempfile.NamedTemporaryFile("w", dir=_CACHE, suffix=".tmp", delete=False) as handle:
-      handle.write(ET.tostring(root, encoding="unicode"))
-    os.replace(handle.name, target)   # atomic: parallel processes may write the same file
-  return str(target)
+    return spec
+  document = copy.deepcopy(spec.document)
+  scale_tree(document, scale)
+  return model_format.spec_from_document(document, spec.path, scale=spec.scale * scale)

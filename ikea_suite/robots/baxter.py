@@ -7,7 +7,6 @@ arms, right arm first: each arm's entries are prefixed `right_` / `left_`.
 import numpy as np
 
 from ikea_suite import config
-from ikea_suite.robots import arm_parts
 from ikea_suite.robots import grippers
 from ikea_suite.robots import manipulator
 from ikea_suite.robots import robot_facts
@@ -51,7 +50,7 @@ class Baxter(manipulator.Manipulator):
     for side, y in (("right", -1.0), ("left", 1.0)):
       joints = [f"{side}_{s}" for s in _JOINT_SUFFIXES]
       gripper = grippers.build(elements[f"{side}_hand"], grippers.RETHINK, prefix=f"{side}_")
-      arms.append(arm_parts.Arm(
+      arms.append(manipulator.Arm(
           prefix=f"{side}_", joints=[root.find("joint", j) for j in joints],
           torque_limits=np.array([limits[j][1] for j in joints]), gripper=gripper,
           camera=root.find("camera", f"{side}_eye_in_hand"), seed=np.array(_SEEDS[side]),

@@ -26,8 +26,6 @@ import numpy as np
 
 from ikea_suite import errors
 from ikea_suite import geometry
-from ikea_suite.robots import compiled_kernels
-from ikea_suite.robots.compiled_kernels import kernels
 
 TASK_SPACE = "task_space"
 TASK_SPACE_POSE = "task_space_pose"
@@ -64,27 +62,24 @@ class TaskSpaceTargets:
 
   A delta target is kept at most `max_lag` metres from the measured tool so
   that pushing against an obstacle cannot wind it up. Positions are held as
-  float64 rows, read as Python floats by the per-step update and DifferentialIK.step
-  (with three numbers per arm each numpy call would cost more than its arithmetic),
-  and updated in place by the fused compiled step (`fused_plan`). Rotations stay
-  numpy products, whose rounding (BLAS's, not Python's) the experts' measured
-  episodes were run with.
+  Python floats, which the per-step update and DifferentialIK.step read and write
+  (with three numbers per arm each numpy call would cost more than its arithmetic).
+  Rotations stay numpy products, whose rounding (BLAS's, not Python's) the experts'
+  measured episodes were run with.
   """
 
   def __init__(self, num_arms, max_translation, max_rotation, workspace, max_lag=0.1):
-    self._pos = np.zeros((num_arms, 3))
+    self._pos = [[0.0, 0.0, 0.0] for _ in range(num_arms)]   # per arm, x y z
     self._rot = np.tile(np.eye(3), (num_arms, 1, 1))
     self._max_translation, self._max_rotation = max_translation, max_rotation
     self._workspace = np.asarray(workspace, dtype=float)   # (num_arms, 2, 3) world boxes
     self._low, self._high = self._workspace[:, 0].tolist(), self._workspace[:, 1].tolist()
     self._max_lag = max_lag
-    self.use_compiled = kernels is not None   # tests turn it off to compare with the Python
-    self._turns = np.zeros((num_arms, 3, 3))   # the compiled path's turn of each arm's target
 
   @property
   def pos(self):
     """(arms, 3) target positions (a copy)."""
-    return self._pos.copy()
+    return np.array(self._pos)
 
   @property
   def rot(self):
@@ -106,45 +101,37 @@ class TaskSpaceTargets:
       self._set(i, pos, rot)
 
   def _set(self, i, pos, rot):
-    self._pos[i] = np.asarray(pos, dtype=float).reshape(3)
+    self._pos[i] = np.asarray(pos, dtype=float).reshape(3).tolist()
     self._rot[i] = rot
 
   def apply_deltas(self, actions, tcp_pos):
     """Moves every arm's target by its delta action; actions (arms, >= 6), tcp_pos (arms, 3)."""
-    step, turn, low, high = self._max_translation, self._max_rotation, self._low, self._high
-    if self.use_compiled:   # compiled_kernels.delta_target: the loop below, arm by arm
-      moves = np.asarray(actions)[:, :6]
-      for i, (move, tcp, turning) in enumerate(zip(moves, tcp_pos, self._turns)):
-        self._pos[i], turned = kernels.delta_target(
-            self._pos[i], move, tcp, step, turn, self._max_lag, low[i], high[i], turning)
-        if turned:
-          self._rot[i] = turning @ self._rot[i]
-      return
-    positions = self._pos.tolist()
-    for i, (move, tcp) in enumerate(zip(actions[:, :6].tolist(), tcp_pos.tolist())):
-      p = positions[i]
-      target = [p[0] + move[0] * step, p[1] + move[1] * step, p[2] + move[2] * step]
-      lag = [target[0] - tcp[0], target[1] - tcp[1], target[2] - tcp[2]]
-      distance = math.sqrt(lag[0] * lag[0] + lag[1] * lag[1] + lag[2] * lag[2])
-      if distance > self._max_lag:
-        target = [tcp[k] + lag[k] * (self._max_lag / distance) for k in range(3)]
-      self._pos[i] = [min(max(target[k], low[i][k]), high[i][k]) for k in range(3)]
+    step, turn, max_lag = self._max_translation, self._max_rotation, self._max_lag
+    positions, rotations = self._pos, self._rot
+    for i, (move, tcp, low, high) in enumerate(zip(actions.tolist(), tcp_pos.tolist(),
+                                                    self._low, self._high)):
+      x, y, z = positions[i]
+      x, y, z = x + move[0] * step, y + move[1] * step, z + move[2] * step
+      lag_x, lag_y, lag_z = x - tcp[0], y - tcp[1], z - tcp[2]
+      distance = math.sqrt(lag_x * lag_x + lag_y * lag_y + lag_z * lag_z)
+      if distance > max_lag:
+        shrink = max_lag / distance
+        x, y, z = tcp[0] + lag_x * shrink, tcp[1] + lag_y * shrink, tcp[2] + lag_z * shrink
+      positions[i] = [min(max(x, low[0]), high[0]), min(max(y, low[1]), high[1]),
+                      min(max(z, low[2]), high[2])]
       x, y, z = move[3] * turn, move[4] * turn, move[5] * turn
       if x or y or z:
-        self._rot[i] = _axis_angle_rows(x, y, z) @ self._rot[i]
+        rotations[i] = _axis_angle_rows(x, y, z) @ rotations[i]
 
   def in_frame(self, origin, rotation):
     """Every arm's target in the frame at `origin` (3 floats) turned by `rotation` (9
     floats, row-major), both world frame: [(position (3 floats), rotation (9 floats,
     row-major))], as DifferentialIK.step takes."""
-    if self.use_compiled:   # compiled_kernels.in_frame: the loop below, arm by arm
-      return [kernels.in_frame(pos, rot, origin, rotation)
-              for pos, rot in zip(self._pos, self._rot.reshape(-1, 9))]
     r0, r1, r2, r3, r4, r5, r6, r7, r8 = rotation
     ox, oy, oz = origin
     out = []
     for (x, y, z), (m0, m1, m2, m3, m4, m5, m6, m7, m8) in zip(
-        self._pos.tolist(), self._rot.reshape(-1, 9).tolist()):
+        self._pos, self._rot.reshape(-1, 9).tolist()):
       x, y, z = x - ox, y - oy, z - oz
       out.append(([r0 * x + r3 * y + r6 * z, r1 * x + r4 * y + r7 * z, r2 * x + r5 * y + r8 * z],
                   [r0 * m0 + r3 * m3 + r6 * m6, r0 * m1 + r3 * m4 + r6 * m7,
@@ -153,18 +140,6 @@ class TaskSpaceTargets:
                    r2 * m0 + r5 * m3 + r8 * m6, r2 * m1 + r5 * m4 + r8 * m7,
                    r2 * m2 + r5 * m5 + r8 * m8]))
     return out
-
-  def fused_plan(self, origin, rotation):
-    """The compiled plan (compiled_kernels' target_plan) through which the fused step
-    (ik_qp.DirectQP.fused_plan) applies deltas to these targets and takes them into the frame
-    at `origin` (3 floats) turned by `rotation` (9 floats, row-major), as apply_deltas and
-    in_frame do; None where the fused step cannot run."""
-    if not compiled_kernels.fused:
-      return None
-    return kernels.target_plan(
-        len(self._pos), float(self._max_translation), float(self._max_rotation),
-        float(self._max_lag), origin, rotation, self._pos, self._rot, self._turns,
-        np.array(self._low), np.array(self._high))
 
   def apply_pose(self, i, action, home_rot):
     low, high = self._workspace[i]

@@ -12,8 +12,8 @@ from dm_control import composer
 from dm_control import mjcf
 
 from ikea_suite import config as config_lib
-from ikea_suite import fresh_observable
 from ikea_suite import geometry
+from ikea_suite import mujoco_arrays
 from ikea_suite import physics_settings
 from ikea_suite.robots import base
 
@@ -238,12 +238,12 @@ class CursorObservables(composer.Observables):
 
   @composer.observable
   def cursor_positions(self):
-    return fresh_observable.FreshGeneric(self._entity.cursor_positions)
+    return mujoco_arrays.FreshGeneric(self._entity.cursor_positions)
 
   @composer.observable
   def cursor_quaternions(self):
-    return fresh_observable.FreshGeneric(self._entity.cursor_quaternions)
+    return mujoco_arrays.FreshGeneric(self._entity.cursor_quaternions)
 
   @composer.observable
   def cursor_held_parts(self):
-    return fresh_observable.FreshGeneric(lambda physics: self._entity.held_parts.astype(np.float64))
+    return mujoco_arrays.FreshGeneric(lambda physics: self._entity.held_parts.astype(np.float64))

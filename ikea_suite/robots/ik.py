@@ -130,26 +130,6 @@ class DifferentialIK:
     q += x   # hinge and slide joints: integrating the displacement is adding it
     return q
 
-  def fused_plan(self, dt):
-    """ik_qp.DirectQP.fused_plan for this IK's limits and steps of length dt, or None."""
-    return self._qp.fused_plan(dt, self._low, self._high)
-
-  def step_task_space(self, plan, target_plan, actions, tcp_pos, q):
-    """`step` (velocity-limited, of fused_plan's dt) towards the targets behind target_plan
-    (TaskSpaceTargets.fused_plan) after they are moved by `actions` (apply_deltas with
-    tcp_pos; None leaves them), in one compiled call: the same numbers as apply_deltas,
-    in_frame and step.
-    Returns the new joint vector, in an array the next call overwrites."""
-    if len(self._endless_qpos):   # the posture target follows whole turns of q
-      q = self.clip_to_limits(q)
-      self._wrap_posture(q)
-    q, x = self._qp.solve_task_space(plan, target_plan, actions, tcp_pos, q)
-    if x is None:
-      self.failures += 1
-      return q
-    q += x
-    return q
-
   def step_mink(self, q, targets, dt, velocity_limited=True):
     """`step` through mink.build_ik and qpsolvers: the reference definition of the step."""
     configuration = self._configuration

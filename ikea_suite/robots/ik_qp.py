@@ -9,24 +9,14 @@ kinematics and a handful of stacked numpy operations, the Lie-group formulas
 mirroring mink's (mink/lie/se3.py, so3.py). Every mink limit here bounds one
 tangent coordinate, so the inequalities are a box, which DAQP takes as simple
 bounds. tests/test_ik.py checks the step against mink.build_ik + qpsolvers.
-
-Where the install built robots/_ik_kernels.c (compiled_kernels), its twins of
-frame_rows and of assemble's element-wise end run instead of the Python: the same
-numbers, bit for bit, in a fraction of the time. Where moreover compiled_kernels.fused,
-`fused_plan` hands one compiled call the whole assembly, MuJoCo's kinematics and numpy's BLAS
-products included (checked against `assemble` to the bit before it is used), and
-`solve_task_space` runs it with the target update in front.
 """
 
-import logging
 import math
 
 import daqp
 import mujoco
 import numpy as np
 
-from ikea_suite import geometry
-from ikea_suite.robots import compiled_kernels
 
 _EPS = 1e-10   # mink's small-angle threshold (mink/lie/utils.py, float64)
 _INF = 1e30    # DAQP reads bounds this large as absent
@@ -153,11 +143,6 @@ def frame_rows(pos, mat, target_pos, target_mat, cost):
                  0.0, 0.0, 0.0, c5 * t6, c5 * t7, c5 * t8)
 
 
-# Compiled twins of frame_rows and of assemble's element-wise end where the install built
-# them (compiled_kernels), else None; tests/test_ik.py checks that they agree to the bit.
-compiled = compiled_kernels.kernels
-
-
 class DirectQP:
   """mink.build_ik's QP for frame tasks on sites, a posture task and box limits, solved by DAQP.
 
@@ -198,26 +183,15 @@ class DirectQP:
     self._speed[velocity_limit.indices] = velocity_limit.limit
     self._caps = {}   # (dt, velocity_limited) -> +-speed bound per coordinate, capped at _INF
     self._no_rows = np.zeros((0, nv))
-    self.use_compiled = compiled is not None   # tests turn it off to compare with the Python
-    # The compiled path's buffers: each site's block, w (their product with the Jacobians,
-    # as (sites, 6, nv) and as w's rows) and the weighted errors.
-    self._blocks = np.zeros((len(self._sites), 6, 6))
-    self._block_rows = list(self._blocks.reshape(len(self._sites), 36))
+    self._sense = np.zeros(nv, dtype=np.intc)
+    # What every step writes again: w, as (sites, 6, nv) and as its rows, and the weighted
+    # errors (see _rows).
     self._w = np.zeros((len(self._sites), 6, nv))
     self._w_rows = self._w.reshape(-1, nv)
     self._weighted = np.zeros(6 * len(self._sites))
-    self._weighted_rows = list(self._weighted.reshape(-1, 6))
-    self._weight_rows = list(self._error_weight.reshape(-1, 6))
-    self._sense = np.zeros(nv, dtype=np.intc)
-    # What every fused plan writes: h, c, upper, lower and the clipped q.
-    self._fused_out = (np.zeros((nv, nv)),) + tuple(np.zeros(nv) for _ in range(4))
 
   def set_posture_target(self, q):
-    offset = self._posture_weight * np.asarray(q, dtype=float)
-    if self._posture_offset is None:
-      self._posture_offset = offset
-    else:   # in place: the fused step's plan points at this array
-      self._posture_offset[:] = offset
+    self._posture_offset = self._posture_weight * np.asarray(q, dtype=float)
 
   def assemble(self, q, targets, dt, velocity_limited=True):
     """(H, c, lower, upper) of the QP at q (within the limits); see `solve`."""
@@ -231,20 +205,14 @@ class DirectQP:
       mujoco.mj_jacSite(model, data, jacp, jacr, site)
     # w is minus mink's weighted Jacobian W: H = W^T W = w^T w and
     # c = -(weighted error) @ W = (weighted error) @ w.
-    w, weighted = (self._rows_compiled if self.use_compiled else self._rows)(targets)
+    w, weighted = self._rows(targets)
     h = w.T @ w
     c = weighted @ w
-    # mink's ConfigurationLimit and VelocityLimit rows, intersected per coordinate.
-    cap, floor = self._cap(dt, velocity_limited)
-    if self.use_compiled:
-      upper, lower = np.empty(model.nv), np.empty(model.nv)
-      compiled.qp_finish(h, c, np.ascontiguousarray(q, dtype=float), self._diagonal,
-                         self._posture_weight, self._posture_offset, self._limit_gain,
-                         self._gain_upper, self._gain_lower, cap, floor, upper, lower)
-      return h, c, lower, upper
     h += self._diagonal
     c += self._posture_weight * q
     c -= self._posture_offset
+    # mink's ConfigurationLimit and VelocityLimit rows, intersected per coordinate.
+    cap, floor = self._cap(dt, velocity_limited)
     gain_q = self._limit_gain * q
     upper = np.minimum(self._gain_upper - gain_q, cap)
     lower = np.maximum(self._gain_lower - gain_q, floor)
@@ -260,7 +228,8 @@ class DirectQP:
     return self._caps[key]
 
   def _rows(self, targets):
-    """(w, weighted errors) of the frame tasks, by frame_rows in Python floats."""
+    """(w, weighted errors) of the frame tasks, by frame_rows in Python floats, in arrays
+    the next call overwrites."""
     errors, blocks = [], []
     xpos, xmat = self._site_xpos, self._site_xmat
     for site, (pos, rot), cost in zip(self._sites, targets, self._cost_rows):
@@ -271,68 +240,9 @@ class DirectQP:
       error, block = frame_rows(xpos[site].tolist(), xmat[site].tolist(), pos, rot, cost)
       errors += error
       blocks.append(block)
-    w = (np.array(blocks).reshape(-1, 6, 6) @ self._jac).reshape(-1, self._model.nv)
-    return w, self._error_weight * errors
-
-  def _rows_compiled(self, targets):
-    """`_rows` by the compiled frame_rows, written into kept buffers (the same numbers)."""
-    xpos, xmat = self._site_xpos, self._site_xmat
-    for site, (pos, rot), cost, weight, block, weighted in zip(
-        self._sites, targets, self._cost_rows, self._weight_rows, self._block_rows,
-        self._weighted_rows):
-      if not isinstance(pos, list):   # lists of floats, as in_frame gives, are read as they are
-        pos = np.asarray(pos, dtype=float).reshape(3)
-      if not isinstance(rot, list) or len(rot) != 9:
-        rot = np.asarray(rot, dtype=float).reshape(9)
-      compiled.frame_rows_into(xpos[site], xmat[site], pos, rot, cost, weight, block, weighted)
-    np.matmul(self._blocks, self._jac, out=self._w)
+    np.matmul(np.array(blocks).reshape(-1, 6, 6), self._jac, out=self._w)
+    np.multiply(self._error_weight, errors, out=self._weighted)
     return self._w_rows, self._weighted
-
-  def fused_plan(self, dt, low, high):
-    """A compiled plan (compiled_kernels' qp_plan) of this QP for steps of length dt with
-    the velocity limit, q clipped to [low, high] (kept arrays, read while the plan lives);
-    None where the fused step cannot run here or does not give `assemble`'s numbers to the
-    bit on this machine. Every plan writes the same output arrays (solve_task_space's)."""
-    if not compiled_kernels.fused or self._posture_offset is None:
-      return None
-    data = self._data
-    h, c, upper, lower, q = self._fused_out
-    cap, floor = self._cap(dt, True)
-    plan = compiled.qp_plan(
-        self._model._address, data._address, self._sites, self._model.nv,
-        float(self._limit_gain), self._qpos, data.site_xpos, data.site_xmat, self._jac,
-        self._blocks, self._w, self._weighted, np.array(self._cost_rows), self._error_weight,
-        h, c, upper, lower, q, low, high, self._diagonal, self._posture_weight,
-        self._posture_offset, self._gain_upper, self._gain_lower, cap, floor)
-    return plan if self._fused_matches(plan, dt, low, high) else None
-
-  def _fused_matches(self, plan, dt, low, high):
-    """Whether qp_assemble gives assemble's H, c and bounds to the bit at random states."""
-    rng = np.random.default_rng(0)
-    span = np.where(np.isfinite(high - low), high - low, 2 * np.pi)
-    base = np.where(np.isfinite(low), low, -np.pi)
-    for _ in range(3):
-      q = base + span * rng.uniform(-0.1, 1.1, self._model.nv)
-      quats = rng.normal(0, 1, (len(self._sites), 4))
-      targets = [(rng.normal(0, 0.5, 3), geometry.quat_to_mat(quat / np.linalg.norm(quat)))
-                 for quat in quats]
-      compiled.qp_assemble(plan, q, np.concatenate([np.r_[p, r.reshape(9)] for p, r in targets]))
-      expected = self.assemble(np.minimum(np.maximum(q, low), high), targets, dt)
-      h, c, upper, lower, _ = self._fused_out
-      if any(a.tobytes() != b.tobytes() for a, b in zip((h, c, lower, upper), expected)):
-        logging.warning("ikea_suite: the fused task-space step differs from the separate "
-                        "steps on this machine; the separate steps run")
-        return False
-    return True
-
-  def solve_task_space(self, plan, target_plan, actions, tcp_pos, q):
-    """(q clipped, step displacement or None): the targets behind target_plan moved by
-    `actions` (TaskSpaceTargets.apply_deltas with tcp_pos; None: not moved) and `solve` from q
-    towards them, in one compiled call and DAQP's. plan: fused_plan's. The returned q is a
-    kept array, which the next call overwrites."""
-    compiled.task_space_assemble(plan, target_plan, actions, tcp_pos, q)
-    h, c, upper, lower, clipped = self._fused_out
-    return clipped, self.solve_assembled(h, c, lower, upper)
 
   def solve(self, q, targets, dt, velocity_limited=True):
     """The step displacement from q (within the limits) towards `targets`, or None.
@@ -341,9 +251,5 @@ class DirectQP:
     in the model's frame.
     """
     h, c, lower, upper = self.assemble(q, targets, dt, velocity_limited)
-    return self.solve_assembled(h, c, lower, upper)
-
-  def solve_assembled(self, h, c, lower, upper):
-    """DAQP's solution of an assembled QP, or None."""
     x, _, exitflag, _ = daqp.solve(h, c, self._no_rows, upper, lower, self._sense)
     return x if exitflag > 0 else None

@@ -11,7 +11,6 @@ from dm_control.entities.manipulators import kinova
 
 from ikea_suite import config
 from ikea_suite import physics_settings
-from ikea_suite.robots import arm_parts
 from ikea_suite.robots import grippers
 from ikea_suite.robots import manipulator
 from ikea_suite.robots import robot_facts
@@ -82,7 +81,7 @@ class Jaco(manipulator.Manipulator):
         open_qpos=np.full(count, _FINGER_OPEN), closed_qpos=np.full(count, _FINGER_CLOSED),
         squeeze_qpos=np.full(count, _FINGER_CLOSED + finger_torque / _FINGER_KP),
         tcp_site=tcp, root_body=grip.parent, close_time=facts.close_time)
-    arm = arm_parts.Arm(
+    arm = manipulator.Arm(
         prefix="", joints=list(arm_entity.joints), torque_limits=np.array(_TORQUE_LIMITS),
         gripper=gripper, camera=camera, seed=np.array(_SEED), home_tcp=np.array([0.4, 0.0, 0.35]),
         workspace=np.array([[-0.45, -0.8, 0.005], [0.85, 0.8, 0.9]]))

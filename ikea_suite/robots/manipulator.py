@@ -1,15 +1,18 @@
 """The common body of every arm robot: actuators per control mode, IK, observables, reset.
 
-A subclass builds its MJCF in `_build_body` and returns one `arm_parts.Arm` per arm.
+A subclass builds its MJCF in `_build_body` and returns one `Arm` per arm.
 Everything else (action spec, control modes, wrist cameras, the part
 placement the robot can reach) is shared. Controls and targets are set once per
 control step in `apply_action`; MuJoCo's actuators (arm_actuators) act on them
 during the substeps, so no Python runs per physics substep."""
 
 import copy
+import dataclasses
 
 import mujoco
 import numpy as np
+from dm_control import composer
+from dm_control.composer.observation import observable
 
 from ikea_suite import config as config_lib
 from ikea_suite import geometry
@@ -20,21 +23,56 @@ from ikea_suite.robots import base
 from ikea_suite.robots import control_modes
 from ikea_suite.robots import grippers
 from ikea_suite.robots import ik
-from ikea_suite.robots import manipulator_observables
-from ikea_suite.robots import task_space_tracking
-from ikea_suite.robots import work_area
 
 _HOME_CACHE = {}
 
 
-class Manipulator(work_area.WorkArea, base.Robot):
-  """An arm robot on a fixed base; see control_modes for the action of each mode, and
-  work_area.WorkArea for where the task lays its parts."""
+@dataclasses.dataclass
+class Arm:
+  """What an arm robot's `_build_body` returns per arm: its joints, gripper, camera and home."""
+  prefix: str                 # action-name prefix: "" or "right_" / "left_"
+  joints: list                # joint elements, base to wrist
+  torque_limits: np.ndarray   # N m per joint
+  gripper: grippers.GripperParts
+  camera: object              # wrist camera element
+  seed: np.ndarray            # joint angles near the home pose, refined by IK
+  home_tcp: np.ndarray        # home tool-centre point in the base frame
+  workspace: np.ndarray       # (2, 3) box in the base frame the tool is kept in
+  impedance_target: object = None   # the target site of impedance mode (arm_actuators)
+
+
+def single_arm(root, elements, limits, joints, gripper_spec, seed, home_tcp, workspace_box):
+  """The one Arm of a single-arm robot whose joints, hand and camera follow the sheets' names."""
+  gripper = grippers.build(elements["right_hand"], gripper_spec, prefix="right_")
+  return Arm(
+      prefix="", joints=[root.find("joint", j) for j in joints],
+      torque_limits=np.array([limits[j][1] for j in joints]), gripper=gripper,
+      camera=root.find("camera", "eye_in_hand"), seed=np.array(seed),
+      home_tcp=np.array(home_tcp), workspace=np.array(workspace_box))
+
+
+class Manipulator(base.Robot):
+  """An arm robot on a fixed base; see control_modes for the action of each mode.
+
+  The placement figures say where the task lays the parts (the band and sector around the
+  base, `reach_zone`); a robot overrides those its own reach calls for (robots/baxter.py).
+  """
 
   DEFAULT_NAME = "manipulator"
   # The arm's load() options (base_pos: the world position of its base, facing +x); each
   # arm's subclass of config.ArmConfig sets its own base position.
   CONFIG = config_lib.ArmConfig
+  REACH = 0.85                   # metres from the base where parts are placed
+  # Metres from the base inside which no part is placed: an arm pointing down cannot
+  # reach right beside itself.
+  PLACEMENT_INNER = 0.55
+  # Metres out to the centre of the part built onto (more for a wide one): a held part mated
+  # nearer the base folds the elbow into it (measured with the Sawyer at 0.4 m).
+  ROOT_DISTANCE = 0.45
+  # Parts lie within this angle either side of the base's heading (rad).
+  PLACEMENT_SECTOR = np.radians(110)
+  # (bearing, metres): parts beyond that bearing may lie out that far (base.ReachZone).
+  PLACEMENT_SIDE_REACH = None
   # Furniture scale that fits this arm's reach (load(scale=...)): at 0.5 a 55 cm table
   # top is 27.5 cm and every part of the small furniture lies within REACH on the work
   # area in front of the base, the way FurnitureBench assembles miniature furniture.
@@ -84,8 +122,10 @@ class Manipulator(work_area.WorkArea, base.Robot):
     boxes = [self._box_to_world(arm.workspace) for arm in self._arms]
     self._targets = control_modes.TaskSpaceTargets(len(self._arms), max_translation,
                                                     max_rotation, boxes)
-    self._tracker = task_space_tracking.TaskSpaceTracker(
-        self._ik, self._targets, self._base_pos.tolist(), self._base_rot.reshape(9).tolist())
+    # The same pose as Python floats, for the task-space targets' per-step frame change.
+    self._base_pos_floats = self._base_pos.tolist()
+    self._base_rot_floats = self._base_rot.reshape(9).tolist()
+    self._dt = 0.05   # the control step (s), which bounds each IK step's joint speeds
     self._wrist_camera, self._camera_size = bool(wrist_camera), tuple(camera_size)
 
   def _build_body(self, name):
@@ -177,6 +217,13 @@ class Manipulator(work_area.WorkArea, base.Robot):
     return len(self._arms[0].joints) + 1 if self._mode in (
         control_modes.JOINT_POSITION, control_modes.JOINT_TORQUE) else 7
 
+  @property
+  def reach_zone(self):
+    """base.ReachZone: where the task may put parts for this arm (tasks/arm_placement.py)."""
+    return base.ReachZone(self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH),
+                          float(self.PLACEMENT_SECTOR), float(self.PLACEMENT_INNER),
+                          float(self.ROOT_DISTANCE), len(self._arms), self.PLACEMENT_SIDE_REACH)
+
   def mount(self, arena):
     frame = arena.attach(self)
     frame.pos = self._base_pos
@@ -184,10 +231,10 @@ class Manipulator(work_area.WorkArea, base.Robot):
     return frame
 
   def bind_scene(self, arena, furniture, assembly, control_timestep):
-    self._tracker.dt = control_timestep
+    self._dt = control_timestep
 
   def _build_observables(self):
-    return manipulator_observables.ManipulatorObservables(self)
+    return ManipulatorObservables(self)
 
   def after_compile(self, physics, random_state):
     bind = physics.bind
@@ -215,9 +262,9 @@ class Manipulator(work_area.WorkArea, base.Robot):
     # one assignment writes every arm's joint targets from the IK's joint vector.
     self._arrays = mujoco_arrays.ArrayViews("qpos", "qvel", "ctrl", "site_xpos", "site_xmat")
     self._tcp_rows = mujoco_arrays.compact_index(self._tcp_ids)
-    self._tracker.bind(self._tcp_rows, mujoco_arrays.compact_index(self._ik_to_qpos),
-                       mujoco_arrays.compact_index(self._arm_act),
-                       mujoco_arrays.compact_index(self._ik.qpos_index[self._arm_ik]))
+    self._ik_qpos_rows = mujoco_arrays.compact_index(self._ik_to_qpos)
+    self._arm_act_rows = mujoco_arrays.compact_index(self._arm_act)
+    self._arm_from_ik_rows = mujoco_arrays.compact_index(self._ik.qpos_index[self._arm_ik])
     self._arm_qpos_rows = mujoco_arrays.compact_index(self._arm_qpos)
     self._arm_dof_rows = mujoco_arrays.compact_index(self._arm_dof)
     self._finger_bodies = [np.array(bind([j.parent for j in a.gripper.joints]).element_id)
@@ -269,30 +316,37 @@ class Manipulator(work_area.WorkArea, base.Robot):
 
   def apply_action(self, physics, action, random_state):
     action = np.ascontiguousarray(action, dtype=float).reshape(len(self._arms), -1)
-    data = physics.data
     arrays = self._arrays(physics)
     if self._mode == control_modes.TASK_SPACE:   # the targets move by the action, then IK
-      self._tracker.track(arrays, action)
+      self._targets.apply_deltas(action, arrays.site_xpos[self._tcp_rows])
+      self._track_task_space(arrays)
     elif self._mode == control_modes.TASK_SPACE_POSE:
       for i in range(len(self._arms)):
         self._targets.apply_pose(i, action[i], self._base_rot @ self._home_rot[i])
-      self._tracker.track(arrays)
+      self._track_task_space(arrays)
     elif self._mode == control_modes.IMPEDANCE:   # springs pull the tools there; ctrl stays 0
       self._targets.apply_deltas(action, arrays.site_xpos[self._tcp_rows])
       self._impedance.place(physics, self._targets.pos, self._targets.rot)
     elif self._mode == control_modes.JOINT_POSITION:
       for i in range(len(self._arms)):
-        data.ctrl[self._arm_act[i]] = control_modes.joint_targets(
+        arrays.ctrl[self._arm_act[i]] = control_modes.joint_targets(
             action[i, :-1], self._joint_low[i], self._joint_high[i])
     else:
       for i, arm in enumerate(self._arms):
-        data.ctrl[self._arm_act[i]] = action[i, :-1] * arm.torque_limits
+        arrays.ctrl[self._arm_act[i]] = action[i, :-1] * arm.torque_limits
     # grippers.command for every arm, in Python floats.
     ctrl = arrays.ctrl
     for squeeze, (actuators, fingers) in zip(action[:, -1].tolist(), self._finger_command):
       fraction = (min(max(squeeze, -1.0), 1.0) + 1.0) / 2.0
       for actuator, (opened, travel) in zip(actuators, fingers):
         ctrl[actuator] = opened + fraction * travel
+
+  def _track_task_space(self, arrays):
+    """Joint targets for the position actuators from the task-space targets, by IK
+    (`arrays`: this physics' ArrayViews)."""
+    targets = self._targets.in_frame(self._base_pos_floats, self._base_rot_floats)
+    q = self._ik.step(arrays.qpos[self._ik_qpos_rows], targets, self._dt)   # step copies it
+    arrays.ctrl[self._arm_act_rows] = q[self._arm_from_ik_rows]
 
   # -- state readers ---------------------------------------------------------------
 
@@ -353,11 +407,6 @@ class Manipulator(work_area.WorkArea, base.Robot):
     """(arms, fingers) MuJoCo actuator ids of the gripper fingers (set after compile)."""
     return self._finger_act.copy()
 
-  @property
-  def tracker(self):
-    """The task-space modes' task_space_tracking.TaskSpaceTracker."""
-    return self._tracker
-
   def replay_targets(self):
     """A copy of the task-space targets (control_modes.TaskSpaceTargets) as they stand,
     for replaying delta actions without moving the robot's own."""
@@ -406,3 +455,35 @@ class Manipulator(work_area.WorkArea, base.Robot):
 
   def joint_velocities(self, physics):
     return self._arrays(physics).qvel[self._arm_dof_rows].copy()
+
+
+class ManipulatorObservables(composer.Observables):
+  """Arm joint positions and velocities, tool poses, gripper openings; wrist cameras on request."""
+
+  def __init__(self, entity):
+    super().__init__(entity)
+    if entity.wrist_camera_size is not None:
+      height, width = entity.wrist_camera_size
+      for arm in entity.arms:
+        self.add_observable(f"{arm.prefix}wrist_camera",
+                            observable.MJCFCamera(arm.camera, height=height, width=width))
+
+  @composer.observable
+  def joint_positions(self):
+    return mujoco_arrays.FreshGeneric(self._entity.joint_positions)
+
+  @composer.observable
+  def joint_velocities(self):
+    return mujoco_arrays.FreshGeneric(self._entity.joint_velocities)
+
+  @composer.observable
+  def tcp_positions(self):
+    return mujoco_arrays.FreshGeneric(self._entity.tcp_positions)
+
+  @composer.observable
+  def tcp_quaternions(self):
+    return mujoco_arrays.FreshGeneric(self._entity.tcp_quaternions)
+
+  @composer.observable
+  def gripper_opening(self):
+    return mujoco_arrays.FreshGeneric(self._entity.gripper_openings)

@@ -8,7 +8,6 @@ the box bounding its visual mesh.
 import numpy as np
 
 from ikea_suite import config
-from ikea_suite.robots import arm_parts
 from ikea_suite.robots import grippers
 from ikea_suite.robots import manipulator
 from ikea_suite.robots import robot_facts
@@ -32,6 +31,6 @@ class Panda(manipulator.Manipulator):
 
   def _build_body(self, name):
     root, elements, limits = robot_facts.build_model(name, "panda", root="link0")
-    return root, [arm_parts.single_arm(
+    return root, [manipulator.single_arm(
         root, elements, limits, JOINTS, grippers.FRANKA_HAND, _SEED, home_tcp=(0.45, 0.0, 0.35),
         workspace_box=[[-0.45, -0.8, 0.005], [0.9, 0.8, 0.9]])]

@@ -6,7 +6,6 @@ the origin). Colours follow the real robot: red links, white and dark trim.
 
 
 from ikea_suite import config
-from ikea_suite.robots import arm_parts
 from ikea_suite.robots import grippers
 from ikea_suite.robots import manipulator
 from ikea_suite.robots import robot_facts
@@ -34,6 +33,6 @@ class Sawyer(manipulator.Manipulator):
     root, elements, limits = robot_facts.build_model(name, "sawyer", root="right_arm_base_link")
     # Fingers in the gripper's narrowest slot: they close on the thin walls, stretchers and
     # racked panels of boxes, benches and desks (grippers.RETHINK_SLOT_1).
-    return root, [arm_parts.single_arm(
+    return root, [manipulator.single_arm(
         root, elements, limits, JOINTS, grippers.RETHINK_SLOT_1, _SEED, home_tcp=(0.45, 0.0, 0.35),
         workspace_box=[[-0.5, -0.9, 0.005], [1.0, 0.9, 1.0]])]

@@ -8,8 +8,8 @@ from dm_env import specs
 
 from ikea_suite import config as config_lib
 from ikea_suite import errors
-from ikea_suite import fresh_observable
 from ikea_suite import geometry
+from ikea_suite import mujoco_arrays
 from ikea_suite import physics_settings
 from ikea_suite.assembly import sequence
 from ikea_suite.tasks import alignment
@@ -92,10 +92,10 @@ class Assembly(composer.Task):
     self._dense = rewards.make(config.reward, self, connection_reward,
                                completion_bonus)  # None: sparse
     self._task_observables = {
-        "connections": fresh_observable.FreshGeneric(lambda physics: self._state.adjacency.copy()),
-        "connectors_used": fresh_observable.FreshGeneric(
+        "connections": mujoco_arrays.FreshGeneric(lambda physics: self._state.adjacency.copy()),
+        "connectors_used": mujoco_arrays.FreshGeneric(
             lambda physics: self._state.connector_used.astype(np.float64)),
-        "next_pair": fresh_observable.FreshGeneric(lambda physics: self.suggested_parts().astype(np.float64)),
+        "next_pair": mujoco_arrays.FreshGeneric(lambda physics: self.suggested_parts().astype(np.float64)),
     }
     for obs in self._task_observables.values():
       obs.enabled = True
