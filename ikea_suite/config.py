@@ -91,11 +91,11 @@ class Factor:
 MAX_LIGHTS = 4
 # Twice Earth's gravity: domain randomization spans the gravity a robot meets, not
 # other planets'; the Sawyer expert and the Cursor oracle still assemble the Lack table
-# at 2 g (seed 3).
+# at 2 g.
 MAX_GRAVITY = 2 * 9.81
 # A part's mass and inertia scaled to 0 make MuJoCo's mass matrix singular
 # (mjWARN_INERTIA at reset; from about 1e-12 on for the Lack table's legs). The Cursor
-# oracle and the Sawyer expert assemble the Lack table alike from 0.001 to 1 (seed 3);
+# oracle and the Sawyer expert assemble the Lack table alike from 0.001 to 1;
 # 0.01, a hundredth of a part's designed mass, keeps a factor of ten from the lightest
 # tried.
 MIN_MASS_SCALE = 0.01

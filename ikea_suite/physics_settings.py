@@ -44,10 +44,10 @@ WELD_SOLIMP = (0.999, 0.9999, 0.001, 0.5, 2.0)
 WELD_TORQUESCALE = 10.0
 
 # The Cursor's grip: a weld from the world to the held part, 5 ms. An assembly
-# held by one part must not swing when a part is pushed into it: with the old
+# held by one part must not swing when a part is pushed into it: with a
 # 20 ms grip a bench on rigid welds tilted 30 degrees about its grip during an
-# insertion (bench_slatted_oak, seed 1000), and 13 of 387 oracle episodes failed
-# that way; at 5 ms all of them assemble.
+# insertion (bench_slatted_oak), and 13 of 387 oracle episodes failed that way; at
+# 5 ms all of them assemble.
 CURSOR_GRIP_SOLREF = (0.005, 1.0)
 
 # Contacts between parts and robot: MuJoCo's default time constant (20 ms) and
@@ -55,7 +55,7 @@ CURSOR_GRIP_SOLREF = (0.005, 1.0)
 # Stiffer contacts (5 ms, 0.95-0.99) sank a 52 kg dresser 0.11 mm into the
 # floor instead of 0.44 mm, but overpowered the Cursor's soft grip weld: a
 # 0.14 kg plastic box wall jammed 21 degrees off against the box bottom during
-# insertion (box_open_kuggis, seed 12), so the default stays.
+# insertion (box_open_kuggis), so the default stays.
 CONTACT_SOLREF = (0.02, 1.0)
 CONTACT_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)
 
@@ -69,11 +69,10 @@ ROUND_GEOM_CONDIM = 6
 # Finger pads touch with the impedance MuJoCo's documentation gives for hard
 # contacts (0.95-0.99) instead of the default 0.9-0.95: soft friction lets a
 # squeezed part creep, and at the default a 32 g leg held in 22 N fingers crept
-# 12 mm out of the Sawyer's pads in 4.5 s of carrying and was dropped (stool_square_pine,
-# seed 0). A large solmix makes the pad's impedance win over the part's when MuJoCo
+# 12 mm out of the Sawyer's pads in 4.5 s of carrying and was dropped (stool_square_pine). A large solmix makes the pad's impedance win over the part's when MuJoCo
 # mixes the two geoms' parameters.
 # MuJoCo's stable hard constraint: time constant two timesteps, impedance 0.95-0.99
-# (PHYSICS.md); the pads' impedance, the grippers' finger coupling and the Jaco's fingers.
+# (docs/physics.md); the pads' impedance, the grippers' finger coupling and the Jaco's fingers.
 HARD_SOLREF = (2 * TIMESTEP, 1.0)
 HARD_SOLIMP = (0.95, 0.99, 0.001, 0.5, 2.0)
 PAD_SOLIMP = HARD_SOLIMP
@@ -84,7 +83,7 @@ PAD_SOLMIX = 1000.0
 # light board carrying a heavy carcass through welds sinks in. The original IKEA
 # env's cabinet_akurum_0014 stands on three 1-1.6 g plinths under a 100 g carcass: they
 # sank 0.8-3.2 mm and the 0.72 m cabinet leaned 1 degree (12.7 mm drift in 5 s); on a
-# hard floor 1.7 mm (README, issue 11). The catalog's heaviest dresser (45 kg) sinks
+# hard floor 1.7 mm. The catalog's heaviest dresser (45 kg) sinks
 # 0.21 mm instead of 0.38. The time constant stays 20 ms: a 4 ms floor turned
 # chair_balser_0115 past the 0.2 degree stand limit. The large solmix makes the
 # surface's impedance win over a part's; pads (same solmix, same impedance) mix evenly.

@@ -32,7 +32,7 @@ def test_every_catalog_model_weighs_what_its_category_allows_for_its_size():
 
 
 def test_ranges_come_from_the_reference_figures_and_scale_with_surface():
-  # PHYSICS.md: a 55 x 55 x 45 cm side table 3-5 kg, an 80 x 28 x 202 cm bookcase 25-45 kg.
+  # docs/physics.md: a 55 x 55 x 45 cm side table 3-5 kg, an 80 x 28 x 202 cm bookcase 25-45 kg.
   low, high = mass_ranges.plausible("dresser", (0.80, 0.48, 0.78))
   assert low == pytest.approx(30 / mass_ranges.MARGIN) and high == pytest.approx(45 * mass_ranges.MARGIN)
   small = mass_ranges.plausible("bookcase", (0.4, 0.28, 1.06))
@@ -45,9 +45,9 @@ def test_ranges_come_from_the_reference_figures_and_scale_with_surface():
 def test_the_lack_style_side_table_weighs_like_the_real_one():
   spec = catalog.spec("table_four_leg_lack")
   top = spec.parts[spec.part_index("top")].mass
-  assert 2.0 <= top <= 3.0          # PHYSICS.md: a 55 x 55 x 5 cm honeycomb top 2-3 kg
-  assert 150 <= top / (0.55 * 0.55 * 0.05) <= 300   # PHYSICS.md: 150-300 kg/m^3 effective
-  assert 3.0 <= spec.mass <= 5.0    # PHYSICS.md: the side table 3-5 kg (listed at 3.6 kg)
+  assert 2.0 <= top <= 3.0          # docs/physics.md: a 55 x 55 x 5 cm honeycomb top 2-3 kg
+  assert 150 <= top / (0.55 * 0.55 * 0.05) <= 300   # docs/physics.md: 150-300 kg/m^3 effective
+  assert 3.0 <= spec.mass <= 5.0    # docs/physics.md: the side table 3-5 kg (listed at 3.6 kg)
   # A solid board of that size at particleboard density would weigh about 10 kg.
   solid = mp.solid_box((0.55, 0.55, 0.05), cons.PARTICLEBOARD_DENSITY).mass
   assert solid > 3 * top

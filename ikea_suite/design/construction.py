@@ -22,7 +22,7 @@ Kinds of construction (mass properties in `mass_properties`):
   tray       sheet folded into a tray: a top sheet `thickness` thick plus lips
              down the four edges, open underneath (a steel shelf).
 
-Densities are PHYSICS.md's typical values (its range in the comment).
+Densities are docs/physics.md's typical values (its range in the comment).
 """
 
 import dataclasses
@@ -30,16 +30,16 @@ import dataclasses
 SOLID, PLATE, HONEYCOMB, TUBE, TRAY = "solid", "plate", "honeycomb", "tube", "tray"
 KINDS = (SOLID, PLATE, HONEYCOMB, TUBE, TRAY)
 
-# Material densities, kg/m^3 (PHYSICS.md, "Materials").
-PINE_DENSITY = 500.0            # PHYSICS.md: pine 420-550
-BIRCH_DENSITY = 650.0           # PHYSICS.md: birch 600-700, birch plywood 550-700
-OAK_DENSITY = 700.0             # PHYSICS.md: oak 650-750
-PARTICLEBOARD_DENSITY = 650.0   # PHYSICS.md: particleboard 600-750
-FIBREBOARD_DENSITY = 750.0      # PHYSICS.md: MDF / fibreboard 650-800
-HARDBOARD_DENSITY = 800.0       # PHYSICS.md: fibreboard 650-800; hardboard is the dense end
-STEEL_DENSITY = 7850.0          # PHYSICS.md: steel 7850
-PLASTIC_DENSITY = 950.0         # PHYSICS.md: ABS / PP 900-1100; PP boxes sit near 900
-# Paper honeycomb core. No measured figure at hand: PHYSICS.md gives the whole
+# Material densities, kg/m^3 (docs/physics.md, "Materials and masses").
+PINE_DENSITY = 500.0            # docs/physics.md: pine 420-550
+BIRCH_DENSITY = 650.0           # docs/physics.md: birch 600-700, birch plywood 550-700
+OAK_DENSITY = 700.0             # docs/physics.md: oak 650-750
+PARTICLEBOARD_DENSITY = 650.0   # docs/physics.md: particleboard 600-750
+FIBREBOARD_DENSITY = 750.0      # docs/physics.md: MDF / fibreboard 650-800
+HARDBOARD_DENSITY = 800.0       # docs/physics.md: fibreboard 650-800; hardboard is the dense end
+STEEL_DENSITY = 7850.0          # docs/physics.md: steel 7850
+PLASTIC_DENSITY = 950.0         # docs/physics.md: ABS / PP 900-1100; PP boxes sit near 900
+# Paper honeycomb core. No measured figure at hand: docs/physics.md gives the whole
 # board (150-300 kg/m^3 effective; a 55 x 55 x 5 cm top 2-3 kg), and the faces
 # and frame below already make 2.6 kg of such a top, so the core is what is left,
 # a few tenths of a kilogram (0.29 kg at this density).
@@ -70,12 +70,12 @@ OAK = Construction("solid oak", SOLID, OAK_DENSITY, note="oak chairs, benches, l
 PARTICLEBOARD = Construction("particleboard", SOLID, PARTICLEBOARD_DENSITY,
                              note="carcass sides, shelves, doors, desk and table tops")
 MDF = Construction("MDF", SOLID, FIBREBOARD_DENSITY, note="painted fibreboard boxes")
-# PHYSICS.md: "back panels are often 3 mm hardboard"; drawer bottoms are the same sheet.
+# docs/physics.md: "back panels are often 3 mm hardboard"; drawer bottoms are the same sheet.
 HARDBOARD = Construction("3 mm hardboard", PLATE, HARDBOARD_DENSITY, thickness=0.003,
                          note="carcass back panels and drawer bottoms")
 # Board-on-frame as in the Lack range: fibreboard faces on a particleboard frame
 # round a paper honeycomb. 3 mm faces and a 20 mm frame give a 55 x 55 x 5 cm top
-# of 2.9 kg, inside PHYSICS.md's 2-3 kg.
+# of 2.9 kg, inside docs/physics.md's 2-3 kg.
 HONEYCOMB_BOARD = Construction("honeycomb board", HONEYCOMB, FIBREBOARD_DENSITY,
                                thickness=0.003, frame_width=0.02,
                                frame_density=PARTICLEBOARD_DENSITY,
@@ -88,10 +88,10 @@ HONEYCOMB_BOARD = Construction("honeycomb board", HONEYCOMB, FIBREBOARD_DENSITY,
 HOLLOW_FIBREBOARD_LEG = Construction("hollow fibreboard leg", TUBE, FIBREBOARD_DENSITY,
                                      thickness=0.003, core_density=PAPER_CORE_DENSITY,
                                      note="Lack-style square legs")
-# PHYSICS.md: furniture frames are hollow tube, wall 1-2 mm.
+# docs/physics.md: furniture frames are hollow tube, wall 1-2 mm.
 STEEL_TUBE = Construction("hollow steel tube", TUBE, STEEL_DENSITY, thickness=0.0015,
                           note="metal table and desk legs, posts, shelving uprights and rungs")
-# Sheet-steel shelves of post shelving: 0.8 mm sheet folded into a tray (PHYSICS.md:
+# Sheet-steel shelves of post shelving: 0.8 mm sheet folded into a tray (docs/physics.md:
 # frames are "hollow tube (wall 1-2 mm) or sheet"; shelf sheet is thinner than tube wall).
 STEEL_SHEET = Construction("sheet steel tray", TRAY, STEEL_DENSITY, thickness=0.0008,
                            note="shelves of steel shelving")

@@ -1,7 +1,7 @@
 """Plausible assembled masses per category, from real flat-pack furniture, scaled to size.
 
-A reference is a real product kind with its size and mass range (PHYSICS.md,
-"Plausible assembled masses"). Our models come in many sizes, so a range is
+A reference is a real product kind with its size and mass range (docs/physics.md,
+"Materials and masses"). Our models come in many sizes, so a range is
 kept per square metre of the reference's bounding-box surface,
 S = 2 (W D + W H + D H), and multiplied by the model's own S: flat-pack
 furniture is boards and frames, whose area (and so mass) grows with the
@@ -45,21 +45,21 @@ class Reference:
     return self.low / s, self.high / s
 
 
-_P = "PHYSICS.md"
+_P = "docs/physics.md"
 SIDE_TABLE = Reference("four-leg side table, honeycomb top", (0.55, 0.55, 0.45), 3, 5, _P)
-# PHYSICS.md gives the height only; 35 cm is the seat of a round stool of that height
+# docs/physics.md gives the height only; 35 cm is the seat of a round stool of that height
 # (our stool_round_frosta: 34 cm).
 STOOL = Reference("stool, 45 cm high", (0.35, 0.35, 0.45), 2, 4, _P + " (seat size assumed)")
-# PHYSICS.md gives no size; 45 x 50 x 85 cm is a common dining chair.
+# docs/physics.md gives no size; 45 x 50 x 85 cm is a common dining chair.
 CHAIR = Reference("dining chair, solid wood", (0.45, 0.50, 0.85), 4, 8, _P + " (size assumed)")
 OPEN_SHELF = Reference("open shelf unit, particleboard", (0.77, 0.39, 0.77), 15, 20, _P)
 BOOKCASE = Reference("bookcase, particleboard", (0.80, 0.28, 2.02), 25, 45, _P)
 CHEST = Reference("chest of 3 drawers", (0.80, 0.48, 0.78), 30, 45, _P)
-# PHYSICS.md: 120-140 x 60-70 cm; the middle of that, at the usual 74 cm height.
+# docs/physics.md: 120-140 x 60-70 cm; the middle of that, at the usual 74 cm height.
 DESK = Reference("desk", (1.30, 0.65, 0.74), 15, 30, _P + " (middle size, 74 cm high assumed)")
 # A 90 x 200 cm mattress in a frame of 2 cm boards with an 80 cm headboard.
 BED = Reference("single bed frame, pine", (0.96, 2.06, 0.80), 15, 30, _P + " (frame size assumed)")
-# Solid-board seating heavier than PHYSICS.md's chairs and stools: a bench "built of
+# Solid-board seating heavier than docs/physics.md's chairs and stools: a bench "built of
 # 3/4 inch oak", "approximate dimensions 21 x 19-1/2 x 11 inches" (read as length,
 # height, depth), "weight approx 15 lbs" (medievaloak.com, Pr-Bench).
 OAK_BENCH = Reference("bench, 19 mm solid oak boards", (0.533, 0.279, 0.495), 6.8, 6.8,
@@ -67,7 +67,7 @@ OAK_BENCH = Reference("bench, 19 mm solid oak boards", (0.533, 0.279, 0.495), 6.
 
 CATEGORIES = {
     "table": (SIDE_TABLE, DESK),            # honeycomb side tables to particleboard tops
-    # Seating runs from PHYSICS.md's stools and chairs to solid-board seats (step
+    # Seating runs from docs/physics.md's stools and chairs to solid-board seats (step
     # stools, armchairs with board side frames, plank benches).
     "stool": (STOOL, OAK_BENCH),
     "chair": (CHAIR, OAK_BENCH),
@@ -85,7 +85,7 @@ CATEGORIES = {
 
 # Models outside their category's range, each with the reason. These are not
 # errors in the models' masses (their constructions are as built) but gaps in
-# the references: PHYSICS.md has no steel shelving, no plastic or solid-pine
+# the references: docs/physics.md has no steel shelving, no plastic or solid-pine
 # storage box. The test requires exactly these to be outside, so an entry goes
 # when a reference for its construction is added or the model changes.
 OUTSIDE = {

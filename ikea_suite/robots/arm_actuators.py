@@ -81,7 +81,7 @@ def _impedance(root, arm, mount, home_q, stiffness):
 # stiffness explicitly (implicitfast treats only damping implicitly), so a servo of
 # gain kp moving an effective mass m, natural frequency w = sqrt(kp / m), oscillates
 # unstably once w * dt exceeds 2 undamped (4.8 critically damped), and loses accuracy
-# well before. Measured with 100 random task-space actions (seed 0, scale 0.5): every
+# well before. Measured with 100 random task-space actions at scale 0.5: every
 # arm's joint speeds stayed at the default's (<= 2 rad/s, the IK's limit) up to
 # w * dt = 0.5 and grew beyond from about 0.7 (Baxter at 10 ms: 3.1 rad/s; Sawyer at
 # 25 ms: 18 rad/s, diverging at 50 ms). So dt <= 0.5 / w: 12.6 steps per period of the

@@ -22,25 +22,25 @@ class Baxter(manipulator.Manipulator):
   DEFAULT_NAME = "baxter"
   CONFIG = config.BaxterConfig   # base_pos: the base's default position
   # The floor both hands reach tool down, from the IK (tool 1.5 cm over the floor, both
-  # arms, 2026-11-26): straight ahead to 0.80-0.85 m, at 40 degrees and wider to 0.95;
-  # beside the torso not within 0.55 m. With parts placed from 0.55 to 0.95 m, in 25 of
-  # 80 failed episodes (seeds 8000-8009) a part lay where it was placed outside this band,
-  # the hand stalling over it for the rest of the episode.
+  # arms): straight ahead to 0.80-0.85 m, at 40 degrees and wider to 0.95; beside the
+  # torso not within 0.55 m. With parts placed from 0.55 to 0.95 m, in 25 of 80 failed
+  # episodes a part lay where it was placed outside this band, the hand stalling over it
+  # for the rest of the episode.
   REACH = 0.82
   PLACEMENT_INNER = 0.62
   # Tool down 3 cm over the floor, the IK from home keeps every joint 0.15 rad inside its
   # limits out to 85 degrees from the heading across the band; at 100 degrees 0.72 m out
-  # a joint meets its limit, at 110 the hand stops 2-4 cm short (2026-11-26). From the
-  # arms' 110 degrees, a leg drawn 105 degrees out stalled the descent over it all episode
-  # (tuning seed 4, every model).
+  # a joint meets its limit, at 110 the hand stops 2-4 cm short. With the sector at the
+  # arms' 110 degrees, a leg drawn 105 degrees out stalled the descent over it all
+  # episode, on every model.
   PLACEMENT_SECTOR = np.radians(85)
   # Out to 0.92 m from 25 degrees on (same IK: misses under 4 mm, joints 0.17 rad inside
   # their limits). Within 85 degrees and 0.82 m, a wide table top left one half room for
   # a single leg: the next spilled out of reach in 31 of 40 episodes of w120_white.
   PLACEMENT_SIDE_REACH = (np.radians(25), 0.92)
   # Its table tops' mates 0.3 m from the torso left the hands cramped there, and a part
-  # dropped near them lay out of reach; 0.55 m out: 64 of 90 tuning episodes against 53
-  # (seeds 0-9, 9 models; tables 4 -> 6-8 of 10, the round bar stool 10 -> 7).
+  # dropped near them lay out of reach; 0.55 m out: 64 of 90 episodes over 9 models
+  # against 53 (tables 4 -> 6-8 of 10, the round bar stool 10 -> 7).
   ROOT_DISTANCE = 0.55
 
   def _build_body(self, name):

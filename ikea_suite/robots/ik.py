@@ -66,7 +66,7 @@ class DifferentialIK:
                               damping=_DAMPING)
     # Unlimited hinges (the Jaco's joints 1, 4, 5, 6) turn for ever: their posture target is
     # the home angle's nearest whole-turn equivalent, else a joint wound a turn or two from
-    # home (the Jaco's wrist reached 16 rad on seed 0) pulls the tool off its target.
+    # home (the Jaco's wrist reached 16 rad in one episode) pulls the tool off its target.
     endless = ~model.jnt_limited.astype(bool) & (model.jnt_type == int(mujoco.mjtJoint.mjJNT_HINGE))
     self._endless_qpos = model.jnt_qposadr[endless]
     self._posture_q = None

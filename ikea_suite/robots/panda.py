@@ -24,7 +24,7 @@ class Panda(manipulator.Manipulator):
   # Tool down 3 cm above the floor the hand reaches 0.8 m only fully stretched (6 mm short);
   # a 0.72 m band spilled a quarter of the full-size Lack's parts outwards, past reach.
   REACH = 0.8
-  # Wrist not flipped, elbow not straight. Failed episodes (tuning seeds) ended with joint
+  # Wrist not flipped, elbow not straight. Failed episodes ended with joint
   # 4 at +-2.9 and joint 5 at -0.02 or 3.75, trapped at the limits beside the part; the
   # completed ones stayed within these ranges.
   IK_WORKING_RANGES = {2: (-2.1, 2.1), 3: (-3.07, -0.5), 4: (-2.0, 2.0), 5: (0.3, 3.3)}

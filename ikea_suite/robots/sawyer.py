@@ -23,8 +23,7 @@ class Sawyer(manipulator.Manipulator):
   REACH = 0.85
   # Shoulder forward, elbow up (limits: j0 +-3.05, j1 -3.81..2.27, j2 +-3.04, j3 +-3.04).
   # Measured over 150 random tool-down poses in the work sector, IK from home solves 108
-  # inside these ranges and 107 with the full ones. In a stool episode (seed 4, a tuning
-  # seed) the unbounded arm ended flipped (j0 -3.05, j1 -2.82: reaching over its
+  # inside these ranges and 107 with the full ones. In a stool episode the unbounded arm ended flipped (j0 -3.05, j1 -2.82: reaching over its
   # shoulder) and could reach no loose part; bounding j0 at +-2.6 and j1 at -3.0 still
   # let it flip there, so j1 stays above -2.3.
   IK_WORKING_RANGES = {0: (-2.2, 2.2), 1: (-2.3, 0.5), 2: (-1.2, 1.2), 3: (0.0, 2.9)}

@@ -1,7 +1,7 @@
 """Chairs: four legs under a seat with a backrest (flat, framed with an opening, or curved),
 and armchairs whose two side frames are legs and armrests in one.
 
-Every chair part is solid wood (PHYSICS.md: "dining chair, solid wood"); painted
+Every chair part is solid wood (docs/physics.md: "dining chair, solid wood"); painted
 ones are pine (construction.solid_wood)."""
 
 import numpy as np

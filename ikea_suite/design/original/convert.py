@@ -111,7 +111,7 @@ def _primitive_corners(kind, size):
   return geometry.box_corners(-np.asarray(half, float), half)
 
 
-# The lightest furniture material, honeycomb board, is 150-300 kg/m^3 effective (PHYSICS.md);
+# The lightest furniture material, honeycomb board, is 150-300 kg/m^3 effective (docs/physics.md);
 # a part lighter than this over its collision volume carries a placeholder mass.
 IMPLAUSIBLE_DENSITY = 100.0
 
