@@ -196,8 +196,8 @@ def test_a_leg_with_another_part_beside_its_middle_is_taken_where_the_fingers_la
 
 
 def test_a_held_part_with_no_mate_left_is_set_down_and_taken_the_other_way():
-  # Every mate and twist failed: the expert used to let go where the part hung and take
-  # it the same way again, 30 times to the end of the episode (kids_white, tuning seed 7).
+  # Every mate and twist failed: an expert that lets go where the part hangs takes it the
+  # same way again, 30 times to the end of the episode (kids_white, tuning seed 7).
   env, expert, timestep = _sawyer_expert("table_four_leg_lack")
   moving, _ = _closes_and_lifts(env, expert, timestep)
   sign = expert._grasp_sign

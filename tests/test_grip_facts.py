@@ -162,8 +162,8 @@ _LEG = ("table_four_leg_lack", "leg0", False)                 # 0.19 kg, 5 cm sq
 _SHELF = ("bookcase_shelf_unit_billy", "shelf0", True)         # 1.5 kg, 18 mm panel, on edge
 # The Sawyer's fingers sit one slot in (grippers.RETHINK_SLOT_1) and open to 60 mm, too
 # little room for the 50 mm Lack leg: it takes a 35 mm stool leg, and as its panel the
-# bench end it assembles, at its work scale (below). Not yet held by the Sawyer (measured,
-# reported in issue 9's closing note): the full-size 1.5 kg shelf swings about the finger
+# bench end it assembles, at its work scale (below). Not held by the Sawyer (measured):
+# the full-size 1.5 kg shelf swings about the finger
 # axis in its 22 N grasp, 5.8 mm at 0.75 m (at 0.6 m the shelf's end strikes the arm's
 # first link), and a 12 mm box wall standing on edge is pushed over by the first finger.
 _STOOL_LEG = ("stool_square_pine", "leg0", False)              # 0.26 kg, 35 mm square, lying
@@ -191,8 +191,8 @@ def test_jaco_holds_a_work_scale_leg_between_thumb_and_fingers():
   # contacts, the fingertips struck the floor or sank into the light leg and lost it.
   # Measured 4.9 mm, close to the bound: the two fingers (1 N m each) back-drive the single
   # thumb (1 N m) and push the leg towards it over the first 1.5 s of the carry, until they
-  # reach their closed limit. It was 5.3 mm, an expected failure, on the seventh session's
-  # softer floor (physics_settings.SUPPORT_SOLIMP).
+  # reach their closed limit. On a softer floor (MuJoCo's default impedance rather than
+  # physics_settings.SUPPORT_SOLIMP) it is 5.3 mm.
   assert jaco.Jaco.WORK_SCALE == 0.5
   mass, slip = _hold_test("jaco", *_LEG, scale=0.5)
   assert mass == pytest.approx(0.19 / 8, rel=0.05) and slip < 0.005

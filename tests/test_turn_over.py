@@ -60,10 +60,9 @@ def test_the_back_stands_in_the_rack_the_way_up_it_goes_in_after_the_turn_over()
 
 
 def test_panda_turns_the_chair_over_and_completes_it():
-  # expert_sweep's seed 2. Seed 1 completed until the twentieth session's mate choice;
-  # since, the back's carry to the turned chair folds the arm in beside the base (its
-  # fourth joint at -2.84 rad) and the back falls (4 of 5 connections). The Panda's
-  # chairs on tuning seeds 0-9: 26/60 for six models against 23/60 before; pine_high 6/10.
+  # expert_sweep's seed 2. On seed 1 the back's carry to the turned chair folds the arm
+  # in beside the base (its fourth joint at -2.84 rad) and the back falls (4 of 5
+  # connections).
   env = ikea_suite.load(CHAIR, "panda", scale=0.5, seed=2)
   expert = experts.make_expert(env)
   timestep, phases = env.reset(), set()
