@@ -59,7 +59,7 @@ def test_steel_shelving_weighs_its_metal_not_its_bounding_box():
   # 1.0 x 0.5 m of 0.8 mm sheet plus 2 cm lips round it, at 7850 kg/m^3.
   sheet = 7850 * 0.0008 * (1.0 * 0.5 + 2 * (1.0 + 0.5) * 0.0192)
   assert shelf == pytest.approx(sheet, rel=0.01)
-  assert shelf < 5.0    # a solid steel box of that size would be 27 kg
+  assert shelf < 5.0    # as a solid metal box rather than a folded sheet it would be 27 kg
 
 
 def _geom(type_, size, construction, pos=(0, 0, 0), rot=None):
