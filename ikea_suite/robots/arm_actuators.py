@@ -90,25 +90,33 @@ def _impedance(root, arm, mount, home_q, stiffness):
 SERVO_STEP_FRACTION = 0.5
 
 
-def stiffest_servo(physics, actuator_ids, qpos_index, q):
-  """The natural frequency (rad/s) and id of the stiffest position servo among
-  `actuator_ids` at joint angles `q` (written at `qpos_index` of a scratch copy of the
-  state), from its gain and the mass it moves: 1 / (moment M^-1 moment^T)."""
+def moved_masses(physics, actuator_ids, qpos_index, q):
+  """{actuator id: the mass (kg, or kg m^2 for a hinge) it moves} at joint angles `q`
+  (written at `qpos_index` of a scratch copy of the state): 1 / (moment M^-1 moment^T)."""
   model = physics.model.ptr
   data = mujoco.MjData(model)
   data.qpos[qpos_index] = q
   mujoco.mj_forward(model, data)
   inertia = np.zeros((model.nv, model.nv))
   mujoco.mj_fullM(model, data, inertia)
-  best = (0.0, -1)
+  masses = {}
   for i in actuator_ids:
-    if model.actuator_biastype[i] != mujoco.mjtBias.mjBIAS_AFFINE:   # not a servo
-      continue
     moment = np.zeros(model.nv)
     start, count = data.moment_rowadr[i], data.moment_rownnz[i]
     moment[data.moment_colind[start:start + count]] = data.actuator_moment[start:start + count]
-    mass = 1.0 / (moment @ np.linalg.solve(inertia, moment))
-    best = max(best, (float(np.sqrt(model.actuator_gainprm[i, 0] / mass)), int(i)))
+    masses[int(i)] = 1.0 / (moment @ np.linalg.solve(inertia, moment))
+  return masses
+
+
+def stiffest_servo(physics, actuator_ids, qpos_index, q):
+  """The natural frequency (rad/s) and id of the stiffest position servo among
+  `actuator_ids` at joint angles `q`, from its gain and the mass it moves."""
+  model = physics.model.ptr
+  servos = [i for i in actuator_ids
+            if model.actuator_biastype[i] == mujoco.mjtBias.mjBIAS_AFFINE]
+  best = (0.0, -1)
+  for i, mass in moved_masses(physics, servos, qpos_index, q).items():
+    best = max(best, (float(np.sqrt(model.actuator_gainprm[i, 0] / mass)), i))
   return best
 
 
@@ -121,16 +129,7 @@ def critical_damping(physics, actuator_ids, qpos_index, q):
   1 / (moment M^-1 moment^T), from a scratch copy of the state.
   """
   model = physics.model.ptr
-  data = mujoco.MjData(model)
-  data.qpos[qpos_index] = q
-  mujoco.mj_forward(model, data)
-  inertia = np.zeros((model.nv, model.nv))
-  mujoco.mj_fullM(model, data, inertia)
-  for i in actuator_ids:
-    moment = np.zeros(model.nv)
-    start, count = data.moment_rowadr[i], data.moment_rownnz[i]
-    moment[data.moment_colind[start:start + count]] = data.actuator_moment[start:start + count]
-    mass = 1.0 / (moment @ np.linalg.solve(inertia, moment))
+  for i, mass in moved_masses(physics, actuator_ids, qpos_index, q).items():
     model.actuator_biasprm[i, 2] = -2.0 * np.sqrt(model.actuator_gainprm[i, 0] * mass)
 
 
