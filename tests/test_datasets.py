@@ -221,6 +221,19 @@ def test_lerobot_state_keys_choose_the_state(camera_file, tmp_path):
   assert lerobot.main([camera_file, str(out), "--state-keys", "nothing"]) == 2
 
 
+@pytest.mark.parametrize("encoder, codec", [("libx264", "h264"), ("libsvtav1", "av1")])
+def test_video_codec_is_the_streams_not_the_encoders(encoder, codec, tmp_path):
+  if encoder not in av.codecs_available:
+    pytest.skip(f"this av build has no {encoder}")
+  path = str(tmp_path / "video.mp4")
+  frames = np.random.default_rng(0).integers(0, 256, (4, 64, 64, 3), dtype=np.uint8)
+  lerobot.write_video(path, frames, 20, encoder)
+  info = lerobot.video_info(path)
+  assert info["video.codec"] == codec and info["video.fps"] == 20
+  assert (info["video.height"], info["video.width"], info["video.pix_fmt"]) == (64, 64,
+                                                                               "yuv420p")
+
+
 def test_key_groups_need_no_furniture_name():
   assert lerobot.key_group("robot/joint_positions", "sawyer") == "robot"
   assert lerobot.key_group("sawyer.joint_positions", "sawyer") == "robot"

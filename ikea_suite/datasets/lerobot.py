@@ -157,7 +157,15 @@ def _names(demo: h5py.Group, keys: list[str]) -> list[str]:
   return names
 
 
-def _write_video(path: str, frames: np.ndarray, fps: int, codec: str) -> None:
+def write_video(path: str, frames: np.ndarray, fps: int, codec: str) -> None:
+  """Encodes RGB frames into an .mp4 (yuv420p), one frame per 1/fps seconds.
+
+  Args:
+    path: the file to write (its folder is created).
+    frames: (frames, height, width, 3) uint8.
+    fps: frames per second.
+    codec: av encoder name ("libx264", "libsvtav1", ...).
+  """
   os.makedirs(os.path.dirname(path), exist_ok=True)
   height, width = frames.shape[1:3]
   with av.open(path, mode="w") as container:
@@ -393,7 +401,7 @@ def export(path: str, out_dir: str, codec: str = DEFAULT_CODEC, task: str | None
   for feature, parts in frames.items():
     video_path = os.path.join(out_dir, VIDEO_PATH.format(video_key=feature, chunk_index=0,
                                                          file_index=0))
-    _write_video(video_path, np.concatenate(parts), fps, codec)
+    write_video(video_path, np.concatenate(parts), fps, codec)
     info = video_info(video_path)
     features[feature] = {
         "dtype": "video", "shape": [info["video.height"], info["video.width"], 3],
