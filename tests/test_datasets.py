@@ -274,6 +274,13 @@ def test_env_args_rebuild_the_env_through_the_robomimic_adapter(camera_file):
   # Without image observations the cameras are off.
   plain = robomimic_env.create_env_from_metadata(args)
   assert not any(k.startswith("cameras.") for k in plain.reset())
+  # robomimic's hook for re-rendering a file's states: the cameras and size it asks for.
+  rendering = robomimic_env.EnvIkeaSuite.create_for_data_processing(
+      camera_names=["top"], camera_height=24, camera_width=24, reward_shaping=True,
+      env_name=args["env_name"], **args["env_kwargs"])
+  assert rendering.reset()["cameras.top_rgb"].shape == (24, 24, 3)
+  assert rendering.serialize()["env_kwargs"]["reward"] == "dense"
+  assert rendering.render(height=20, width=30, camera_name="side").shape == (20, 30, 3)
 
 
 def test_collect_in_two_processes_matches_in_process(tmp_path):
