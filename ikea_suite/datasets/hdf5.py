@@ -1,7 +1,7 @@
 """The demonstration file: robomimic's HDF5 layout plus subtask labels.
 
-    data                         attrs: env_args (JSON: env_name, type, env_kwargs), total
-                                 (samples), ikea_suite_version
+    data                         attrs: env_args (JSON: env_name, type ENV_TYPE, env_kwargs),
+                                 total (samples), ikea_suite_version
     data/demo_<i>                attrs: seed, model_name, model_version, robot, num_samples, success
     data/demo_<i>/actions        (N, action dim) float64, as the policy sent them
     data/demo_<i>/rewards        (N,) float64
@@ -64,23 +64,30 @@ def model_version(furniture: str) -> str:
 
 GYM_ID = "ikea_suite/Assembly-v0"
 
+# robomimic's env_args `type` is an int naming the wrapper that rebuilds the environment
+# (its EnvType: 1 robosuite, 2 gym, 3 iGibson). ikea_suite's is outside those values, so
+# robomimic never takes the file for one of its own; robomimic_env rebuilds it.
+ENV_TYPE = 100
+
 
 def env_args(furniture: str, robot: str, options: dict[str, Any]) -> dict[str, Any]:
-  """robomimic-style env_args that rebuild the environment.
+  """robomimic's env_args (its env_meta) that rebuild the environment.
 
   `env_kwargs` are the keyword arguments of `ikea_suite.load` (furniture,
-  robot and options) and equally of `gymnasium.make(env_name, **env_kwargs)`.
+  robot and options) and equally of `gymnasium.make(env_name, **env_kwargs)`;
+  `robomimic_env.create_env_from_metadata(env_args)` gives robomimic's
+  environment interface over it.
 
   Args:
     furniture: furniture name.
     robot: robot name.
     options: further load() options (tuples are stored as JSON lists).
   Returns:
-    {"env_name": GYM_ID, "type": "ikea_suite", "env_kwargs": {...}}.
+    {"env_name": GYM_ID, "type": ENV_TYPE, "env_kwargs": {...}}.
   """
   kwargs = {"furniture": furniture, "robot": robot}
   kwargs.update({k: list(v) if isinstance(v, tuple) else v for k, v in options.items()})
-  return {"env_name": GYM_ID, "type": "ikea_suite", "env_kwargs": kwargs}
+  return {"env_name": GYM_ID, "type": ENV_TYPE, "env_kwargs": kwargs}
 
 
 def load_env(args: dict[str, Any], **overrides: Any) -> environment.Environment:
@@ -171,7 +178,7 @@ def write(path: str, episodes: Iterable[recorder.Episode], args: dict[str, Any],
       names.append(name)
       total += episode.num_samples
     data.attrs.update({"env_args": json.dumps(args), "total": total,
-                       "ikea_suite_version": _package_version(), "format_version": FORMAT_VERSION,
+                       "ikea_suite_version": package_version(), "format_version": FORMAT_VERSION,
                        "state_kind": mj_state.STATE_KIND_NAME})
     train, valid = train_valid_split(names, valid_fraction)
     f.create_dataset("mask/train", data=np.array(train, dtype="S"))
@@ -201,7 +208,8 @@ def demo_names(f: h5py.File) -> list[str]:
   return sorted(f["data"].keys(), key=lambda n: int(n.split("_")[1]))
 
 
-def _package_version() -> str:
+def package_version() -> str:
+  """The installed ikea_suite's version ("unknown" when it runs from a source tree)."""
   from importlib import metadata
   try:
     return metadata.version("ikea_suite")
