@@ -23,7 +23,7 @@ from randomized_contact_sheet import write_png  # pylint: disable=g-import-not-a
 
 
 def render_robot(robot, furniture, cameras, size, seed):
-  scale = registry.get(robot).factory.WORK_SCALE
+  scale = registry.get(robot).factory.CONFIG.WORK_SCALE
   env = ikea_suite.load(furniture, robot, seed=seed, scale=scale, cameras=cameras, image_size=size)
   observation = env.reset().observation
   images = [observation[f"cameras/{c}_rgb"] for c in cameras]

@@ -57,7 +57,7 @@ class Assembly(composer.Task):
   def __init__(self, arena, furniture, robot, config=None, initializer=None):
     self._arena, self._furniture, self._robot = arena, furniture, robot
     config = (config_lib.TaskConfig() if config is None else config).resolved(
-        len(furniture.parts), scattered=robot.reach_zone is None)
+        len(furniture.parts), scattered=robot.reach_zone is None, scale=furniture.scale)
     self._config = config
     physics_settings.configure_arena(arena.mjcf_model)
     self._thresholds = alignment.Thresholds.of(config)
