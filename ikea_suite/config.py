@@ -306,7 +306,8 @@ class TaskConfig(_Config):
       None, "domain randomization: None, a factor or group name (physics, visual, all), "
       "names, or a {factor: value} dict")
   cameras: tuple[str, ...] = _option(
-      (), "cameras rendered as observations: the arena's front, top, side; an arm's wrist")
+      (), "cameras rendered as observations: the arena's front (framed on the work area), top, "
+      "side; an arm's wrist")
   camera_outputs: tuple[str, ...] = _option(
       ("rgb",), "what each camera gives: rgb, depth, segmentation, part_boxes")
   image_size: int | tuple[int, int] = _option(
