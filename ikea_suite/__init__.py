@@ -18,6 +18,7 @@ from ikea_suite.errors import IkeaSuiteError  # noqa: E402
 from ikea_suite.errors import ModelFormatError  # noqa: E402
 from ikea_suite.errors import OptionValueError  # noqa: E402
 from ikea_suite.errors import UnknownNameError  # noqa: E402
+from ikea_suite.errors import UnsupportedPairError  # noqa: E402
 from ikea_suite.props.catalog import invalid_models  # noqa: E402
 from ikea_suite.props.catalog import register_models  # noqa: E402
 from ikea_suite.props.catalog import unregister_models  # noqa: E402
@@ -30,6 +31,7 @@ from ikea_suite.suite import robot_names  # noqa: E402
 
 __all__ = [   # the public API; ALL and EXPERT_SUPPORTED are computed on first use (below)
     "ActionError", "EpisodeStartError", "IkeaSuiteError", "ModelFormatError", "OptionValueError", "UnknownNameError",
+    "UnsupportedPairError",
     "invalid_models", "register_models", "unregister_models", "DEFAULT_FURNITURE",
     "DEFAULT_ROBOT", "all_environments", "furniture_names", "load", "robot_names"]
 

@@ -1,8 +1,8 @@
 """`ikea-suite-rollout`: run episodes headless and print a summary of each.
 
-    ikea-suite-rollout                       # the Cursor oracle on the default furniture
+    ikea-suite-rollout                       # the Cursor's expert (oracle) on the default furniture
     ikea-suite-rollout --policy random --furniture chair_back_ivar --episodes 3
-    ikea-suite-rollout --policy expert --robot sawyer --scale 0.5 --episodes 3
+    ikea-suite-rollout --robot sawyer --episodes 3   # the Sawyer's expert at its work scale
     ikea-suite-rollout --list                # the furniture catalog with part counts and masses
     ikea-suite-rollout --doctor              # versions, rendering backend, hints for problems
 """
@@ -18,16 +18,18 @@ from ikea_suite import doctor
 from ikea_suite.experts import registry
 from ikea_suite.props import catalog
 
-POLICIES = ("oracle", "expert", "random")
+POLICIES = ("expert", "oracle", "random")
 # --policy oracle: the expert of the robots whose expert is the Cursor oracle.
 ORACLE_KIND = "cursor_oracle"
 
 
 def make_policy(name, env, seed):
   """The policy `name` (POLICIES) for `env`: the robot's scripted expert (the experts'
-  registry), the Cursor oracle, or uniform random actions from `seed`."""
+  registry; refused, with the furniture it assembles, where it is not measured to
+  assemble env's furniture at env's scale), the Cursor oracle, or uniform random actions
+  from `seed`."""
   if name == "expert":
-    return registry.make_expert(env)
+    return registry.make_expert(env, require_supported=True)
   if name == "oracle":
     robot = env.task.robot.mjcf_model.model
     if robot not in registry.EXPERTS or registry.EXPERTS[robot].kind != ORACLE_KIND:
@@ -73,13 +75,15 @@ def main(argv=None):
   parser = argparse.ArgumentParser(description="Run ikea_suite episodes headless.")
   parser.add_argument("--furniture", default=ikea_suite.DEFAULT_FURNITURE)
   parser.add_argument("--robot", default=ikea_suite.DEFAULT_ROBOT)
-  parser.add_argument("--policy", default="oracle", choices=POLICIES)
+  parser.add_argument("--policy", default="expert", choices=POLICIES,
+                      help="expert: the robot's scripted expert (the Cursor's is the oracle); "
+                           "oracle: the Cursor oracle; random: uniform random actions")
   parser.add_argument("--episodes", type=int, default=1)
   parser.add_argument("--seed", type=int, default=0)
   parser.add_argument("--time-limit", type=float, default=None, help="seconds of simulated time")
   parser.add_argument("--scale", type=float, default=None,
-                      help="furniture size factor (default 1; arms assemble small furniture "
-                           "at their WORK_SCALE, e.g. 0.5)")
+                      help="furniture size factor (default: the robot's work scale, 1 for "
+                           "the Cursor, 0.5 for the arms)")
   parser.add_argument("--list", action="store_true",
                       help="print the furniture catalog (parts, mass) and exit")
   parser.add_argument("--doctor", action="store_true",

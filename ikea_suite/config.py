@@ -4,7 +4,8 @@
 time limit, arena, furniture scale, scene, part placement, randomization,
 cameras); each robot kind has its own dataclass, to which the robot class points
 (`Robot.CONFIG`): `CursorConfig`, and `ArmConfig` with a subclass per arm that
-sets its base position; `GymConfig` holds the gymnasium adapter's own options.
+sets its base position; each robot config's WORK_SCALE is the furniture scale
+the robot loads at when no scale is given; `GymConfig` holds the gymnasium adapter's own options.
 
 Constructing a config checks every field (an OptionValueError or UnknownNameError
 naming the value and what is valid) and stores it normalised: numbers as
@@ -62,6 +63,14 @@ IMPEDANCE_STIFFNESS = (1500.0, 60.0)
 # base, stay on the 8 m floor, inside the backdrop walls 4 m out.
 BASE_XY_LIMIT = 3.0             # m
 BASE_HEIGHT_LIMIT = 0.3         # m
+# The furniture scale a robot loads at when load() gets none: the scale its expert
+# assembles at. The Cursor reaches everywhere and takes full-size furniture. An arm takes
+# half size: at 0.5 a 55 cm table top is 27.5 cm and every part of the small furniture
+# lies within the arm's reach on the work area in front of its base, the way
+# FurnitureBench assembles miniature furniture (its expert sweeps ran at 0.5, 3 of 4
+# connections for the Sawyer's Lack table at 1.0).
+FULL_SCALE = 1.0
+ARM_WORK_SCALE = 0.5
 
 
 # -- randomization factors -----------------------------------------------------------
@@ -277,9 +286,11 @@ class TaskConfig(_Config):
       0.99, "smallest cosine between two connectors' up axes (0.99: about 8 degrees)")
   forward_threshold: float = _option(
       0.99, "smallest cosine between their forward axes at the best allowed twist")
-  scale: float = _option(
-      1.0, f"furniture size factor, {scaling.MIN_SCALE:g} to {scaling.MAX_SCALE:g}: lengths "
-      "x scale, masses x scale^3, inertias x scale^5")
+  scale: float | None = _option(
+      None, f"furniture size factor, {scaling.MIN_SCALE:g} to {scaling.MAX_SCALE:g}: lengths "
+      "x scale, masses x scale^3, inertias x scale^5; None: the robot's work scale, the one "
+      f"its expert assembles at: {FULL_SCALE:g} for the Cursor, {ARM_WORK_SCALE:g} for the "
+      f"arms (small furniture within reach; scale={FULL_SCALE:g} gives them full size)")
   arena: str = _option(
       "floor", "'floor', or 'work_table' for arms: a 0.75 m table in front of the robot, "
       "which stands on a pedestal as high")
@@ -295,7 +306,8 @@ class TaskConfig(_Config):
       None, "domain randomization: None, a factor or group name (physics, visual, all), "
       "names, or a {factor: value} dict")
   cameras: tuple[str, ...] = _option(
-      (), "cameras rendered as observations: the arena's front, top, side; an arm's wrist")
+      (), "cameras rendered as observations: the arena's front (framed on the work area), top, "
+      "side; an arm's wrist")
   camera_outputs: tuple[str, ...] = _option(
       ("rgb",), "what each camera gives: rgb, depth, segmentation, part_boxes")
   image_size: int | tuple[int, int] = _option(
@@ -323,12 +335,13 @@ class TaskConfig(_Config):
                 check.positive("distance_threshold", self.distance_threshold))
     for name in ("up_threshold", "forward_threshold"):
       self._set(name, check.number(name, getattr(self, name), -1.0, 1.0, high_open=True))
-    if not check.is_number(self.scale) or not (
-        scaling.MIN_SCALE <= self.scale <= scaling.MAX_SCALE):
-      raise errors.OptionValueError(
-          f"scale must be a number from {scaling.MIN_SCALE} to {scaling.MAX_SCALE} "
-          f"(1 = full size), got {self.scale!r}")
-    self._set("scale", float(self.scale))
+    if self.scale is not None:
+      if not check.is_number(self.scale) or not (
+          scaling.MIN_SCALE <= self.scale <= scaling.MAX_SCALE):
+        raise errors.OptionValueError(
+            f"scale must be a number from {scaling.MIN_SCALE} to {scaling.MAX_SCALE} "
+            f"(1 = full size) or None (the robot's work scale), got {self.scale!r}")
+      self._set("scale", float(self.scale))
     check.choice("arena", self.arena, presets.ARENAS)
     if not isinstance(self.scene, str) or self.scene not in presets.PRESETS:
       raise errors.UnknownNameError("scene", self.scene, presets.PRESETS)
@@ -349,23 +362,40 @@ class TaskConfig(_Config):
     self._set("image_size", image_shape("image_size", self.image_size))
     self._set("goal_image", check.boolean("goal_image", self.goal_image))
 
-  def resolved(self, num_parts: int, scattered: bool) -> "TaskConfig":
+  def furniture_scale(self, robot_config: "RobotConfig") -> float:
+    """The scale the furniture is built at: `scale`, or the robot's WORK_SCALE where None.
+
+    Args:
+      robot_config: the robot's config (its class's WORK_SCALE is the default).
+    Returns:
+      The load(scale=...) factor.
+    """
+    return type(robot_config).WORK_SCALE if self.scale is None else self.scale
+
+  def resolved(self, num_parts: int, scattered: bool, scale: float) -> "TaskConfig":
     """This config with the defaults that depend on the furniture and the robot filled in.
 
     Args:
       num_parts: the furniture's part count (the time limit grows with it).
       scattered: whether the parts are scattered around the furniture (a robot that reaches
         everywhere, the Cursor) rather than laid within an arm's reach.
+      scale: the scale the furniture is built at (furniture_scale()).
     Returns:
-      A TaskConfig whose time_limit and distance_threshold are numbers, and whose spread is
-      one for scattered parts (None for an arm: its whole reach band).
+      A TaskConfig whose scale, time_limit and distance_threshold are numbers, and whose
+      spread is one for scattered parts (None for an arm: its whole reach band).
+    Raises:
+      OptionValueError: a `scale` that is not the one the furniture is built at.
     """
+    if self.scale is not None and abs(self.scale - scale) > 1e-12:
+      raise errors.OptionValueError(
+          f"scale {self.scale!r} differs from the furniture's, which is built at {scale!r}")
     spread = SCATTER_SPREAD if self.spread is None and scattered else self.spread
     return dataclasses.replace(
         self,
+        scale=float(scale),
         time_limit=(default_time_limit(num_parts) if self.time_limit is None
                     else self.time_limit),
-        distance_threshold=(DISTANCE_THRESHOLD * self.scale if self.distance_threshold is None
+        distance_threshold=(DISTANCE_THRESHOLD * scale if self.distance_threshold is None
                             else self.distance_threshold),
         spread=spread)
 
@@ -413,6 +443,9 @@ def image_shape(name: str, size, square: bool = True) -> tuple[int, int]:
 class RobotConfig(_Config):
   """Base of the robots' option dataclasses."""
 
+  # The furniture scale the robot loads at when load() gets none (TaskConfig.scale).
+  WORK_SCALE: typing.ClassVar[float] = FULL_SCALE
+
 
 @dataclasses.dataclass(frozen=True)
 class CursorConfig(RobotConfig):
@@ -443,6 +476,8 @@ _BASE_POS_MEANING = ("world position of the arm's base (z from the floor, or fro
 @dataclasses.dataclass(frozen=True)
 class ArmConfig(RobotConfig):
   """A fixed-base arm's options (robots/manipulator.py); each arm's subclass sets base_pos."""
+
+  WORK_SCALE: typing.ClassVar[float] = ARM_WORK_SCALE
 
   control_mode: str = _option(
       "task_space", "how actions drive the arm: " + ", ".join(control_modes.MODES))

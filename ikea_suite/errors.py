@@ -46,6 +46,11 @@ class OptionValueError(IkeaSuiteError, ValueError):
   """An option of load() with a value outside its valid range or choices."""
 
 
+class UnsupportedPairError(IkeaSuiteError, ValueError):
+  """A furniture, or a scale, that a robot's scripted expert is not measured to assemble;
+  names the furniture it assembles and at what scale."""
+
+
 class EpisodeStartError(IkeaSuiteError, RuntimeError):
   """An episode that could not start: its parts could not be laid out, or its first state
   is not a valid physics state; names the reason."""

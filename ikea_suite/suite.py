@@ -63,7 +63,7 @@ def load(furniture: str | os.PathLike = DEFAULT_FURNITURE, robot: str = DEFAULT_
   spec = catalog.spec(furniture)
   robot_entry = registry.get(robot)
   task_config, robot_config = _configs(robot_entry, options)
-  scale = task_config.scale
+  scale = task_config.furniture_scale(robot_config)
   spec = scaling.scaled(spec, scale)
   furniture_prop = furniture_lib.Furniture(spec)
   robot_entity = robot_entry.factory(config=robot_config, **_mount(task_config, robot_entry))

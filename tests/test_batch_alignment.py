@@ -10,7 +10,7 @@ from ikea_suite.batch import align
 from ikea_suite.batch import model as model_lib
 from ikea_suite.tasks import alignment
 
-THRESHOLDS = alignment.Thresholds.of(config.TaskConfig().resolved(5, scattered=True))
+THRESHOLDS = alignment.Thresholds.of(config.TaskConfig().resolved(5, scattered=True, scale=1.0))
 
 
 def random_frames(rng, num_connectors):

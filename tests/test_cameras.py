@@ -15,6 +15,7 @@ from ikea_suite.robots import cursor
 from ikea_suite.tasks import assembly
 from ikea_suite.tasks import camera_observables
 from ikea_suite.tasks import cameras
+from ikea_suite.tasks import framing
 
 SIZE = 32
 ALL_OUTPUTS = ("rgb", "depth", "segmentation", "part_boxes")
@@ -55,11 +56,12 @@ def test_every_output_is_a_spec_valid_observable(gl):
 
 
 def test_segmentation_ids_follow_the_documented_convention(gl):
-  env = _load(cameras=("top", "front"), camera_outputs=("segmentation",), image_size=64)
+  # The side camera's low view shows the sky (background); the front looks down on the parts.
+  env = _load(cameras=("top", "front", "side"), camera_outputs=("segmentation",), image_size=64)
   observation = env.reset().observation
   num_parts = len(env.task.furniture.parts)
   seen = set()
-  for name in ("top", "front"):
+  for name in ("top", "front", "side"):
     labels = np.unique(observation[f"cameras/{name}_segmentation"])
     assert set(labels) <= {cameras.BACKGROUND_ID, cameras.FLOOR_ID, cameras.ROBOT_ID,
                            *range(num_parts)}
@@ -122,8 +124,11 @@ def test_goal_image_shows_the_assembled_furniture_and_leaves_physics_alone(gl):
   action = np.zeros(15)
   action[[0, 1, 9]] = (0.5, -0.3, 0.4)
   trajectories = []
+  # 84 px, the size pixel policies use: the front camera frames the Cursor's whole ring,
+  # so at 32 px a 5 cm leg is under a pixel wide.
+  size = 84
   for options in ({}, dict(cameras=("front",), camera_outputs=("rgb", "segmentation"),
-                           goal_image=True)):
+                           goal_image=True, image_size=size)):
     env = _load(**options)
     timestep = env.reset()
     first = timestep.observation
@@ -136,8 +141,9 @@ def test_goal_image_shows_the_assembled_furniture_and_leaves_physics_alone(gl):
   goal_parts = set(np.unique(goal)) & set(range(len(env.task.furniture.parts)))
   assert len(goal_parts) >= 3   # the top and at least two legs, assembled at the origin
   assert not np.array_equal(first["cameras/front_goal_rgb"], first["cameras/front_rgb"])
-  centre = goal[8:24, 8:24]
-  assert (centre >= 0).mean() > (first["cameras/front_segmentation"][8:24, 8:24] >= 0).mean()
+  middle = slice(size // 4, 3 * size // 4)
+  centre = goal[middle, middle]
+  assert (centre >= 0).mean() > (first["cameras/front_segmentation"][middle, middle] >= 0).mean()
 
 
 def test_bad_camera_options_name_the_valid_choices():
@@ -187,3 +193,57 @@ def test_arm_wrist_cameras_are_named_cameras(gl, robot, camera):
   assert np.isfinite(observation[f"cameras/{camera}_depth"]).all()
   # The gripper fills part of its own wrist view.
   assert (observation[f"cameras/{camera}_segmentation"] == cameras.ROBOT_ID).any()
+
+
+@pytest.mark.parametrize("robot, arena", [("cursor", "floor"), ("sawyer", "floor"),
+                                          ("panda", "floor"), ("jaco", "floor"),
+                                          ("baxter", "floor"), ("panda", "work_table")])
+def test_the_front_camera_frames_the_work_area(robot, arena):
+  # Each robot at its work scale (load's default), over a few layouts: every part's centre
+  # falls in the central 80% of the 84 px front image and the parts spread over most of
+  # its width; on the work table its top reaches both sides of the image, as
+  # FurnitureBench's front camera shows its table.
+  size = 84
+  env = ikea_suite.load(ikea_suite.DEFAULT_FURNITURE, robot, seed=0, arena=arena)
+  pixels = []
+  for _ in range(4):
+    env.reset()
+    physics = env.physics
+    projection = cameras.camera_projection(
+        physics, physics.model.name2id(framing.CAMERA, "camera"), size, size)
+    centres, _ = env.task.furniture.part_poses(physics)
+    points, in_front = cameras.project_points(centres, *projection, size, size)
+    assert in_front.all()
+    pixels.append(points / (size - 1))
+  pixels = np.concatenate(pixels)
+  assert pixels.min() >= 0.1 and pixels.max() <= 0.9
+  assert np.ptp(pixels[:, 0]) > 0.6
+  support = env.task.arena.support
+  if support.bounded:
+    hx, hy = support.half_size
+    c, s = np.cos(support.yaw), np.sin(support.yaw)
+    corners = (np.array([[hx, hy], [hx, -hy], [-hx, hy], [-hx, -hy]])
+               @ np.array([[c, s], [-s, c]]) + np.asarray(support.centre))
+    corners = np.hstack([corners, np.full((4, 1), support.height)])
+    table, _ = cameras.project_points(corners, *projection, size, size)
+    table /= size - 1
+    assert table[:, 0].min() < 0.05 and table[:, 0].max() > 0.95
+
+
+def test_framing_keeps_a_square_image_s_points_within_the_fill():
+  points = np.array([[-1.0, -0.5, 0.0], [1.0, 0.5, 0.0], [0.3, 0.0, 0.4]])
+  direction = np.array([0.0, -np.cos(np.pi / 4), np.sin(np.pi / 4)])
+  position, target = framing.look_at(points, direction, fovy=45.0, fill=0.8)
+  forward = (target - position) / np.linalg.norm(target - position)
+  np.testing.assert_allclose(forward, -direction, atol=1e-9)
+  right = np.cross(forward, [0.0, 0.0, 1.0])
+  right /= np.linalg.norm(right)
+  up = np.cross(right, forward)
+  offsets = points - position
+  depth = offsets @ forward
+  tangents = np.stack([offsets @ right, offsets @ up], axis=1) / depth[:, None]
+  limit = 0.8 * np.tan(np.radians(22.5))
+  assert np.abs(tangents).max() <= limit + 1e-6
+  assert np.abs(tangents).max() > 0.98 * limit        # no farther than it needs
+  # Centred: the extremes sit symmetrically about the image's middle.
+  assert abs(tangents[:, 0].max() + tangents[:, 0].min()) < 1e-3 * limit

@@ -16,6 +16,7 @@ from ikea_suite.batch import settings
 from ikea_suite.environment import Environment
 from ikea_suite.props import catalog
 from ikea_suite.props import furniture as furniture_lib
+from ikea_suite.props import scaling
 from ikea_suite.robots import cursor
 from ikea_suite.robots import registry
 from ikea_suite.tasks import assembly
@@ -193,7 +194,7 @@ def test_the_environment_keeps_the_resolved_config():
     task_config.scale = 1.0
   cursor_env = ikea_suite.load(TABLE, "cursor", seed=0)
   parts = len(cursor_env.task.furniture.parts)
-  assert cursor_env.task.config == config.TaskConfig().resolved(parts, scattered=True)
+  assert cursor_env.task.config == config.TaskConfig().resolved(parts, scattered=True, scale=1.0)
   assert cursor_env.task.config.spread == config.SCATTER_SPREAD
   assert cursor_env.time_limit == config.default_time_limit(parts)
 
@@ -208,6 +209,30 @@ def test_each_robot_points_at_its_config_and_the_arm_base_defaults_are_its_own()
                                 for name in registry.names("arm")}
 
 
+def test_each_robot_loads_at_its_work_scale_unless_given_one():
+  assert config.TaskConfig().scale is None
+  assert config.CursorConfig.WORK_SCALE == 1.0
+  for name in ikea_suite.robot_names():
+    work_scale = registry.get(name).factory.CONFIG.WORK_SCALE
+    assert work_scale == (1.0 if name == "cursor" else 0.5)
+    env = ikea_suite.load(TABLE, name, seed=0)
+    assert env.task.furniture.scale == env.task.config.scale == work_scale
+    assert env.task.config.distance_threshold == config.DISTANCE_THRESHOLD * work_scale
+  full = ikea_suite.load(TABLE, "sawyer", seed=0, scale=1.0)
+  assert full.task.furniture.scale == full.task.config.scale == 1.0
+  row = {(r.scope, r.name): r for r in config.option_rows()}["task", "scale"]
+  assert row.default == "None" and "0.5 for the arms" in row.meaning
+
+
+def test_a_task_config_scale_must_be_the_furniture_s():
+  furniture = furniture_lib.Furniture(scaling.scaled(catalog.spec(TABLE), 0.5))
+  with pytest.raises(BAD, match="scale 1.0 differs from the furniture's, which is built at 0.5"):
+    assembly.Assembly(arena=floor.FloorArena(), furniture=furniture, robot=cursor.Cursor(),
+                      config=config.TaskConfig(scale=1.0))
+  task = assembly.Assembly(arena=floor.FloorArena(), furniture=furniture, robot=cursor.Cursor())
+  assert task.config.scale == 0.5
+
+
 def test_the_work_table_raises_the_arm_but_keeps_its_config():
   env = ikea_suite.load(TABLE, "panda", seed=0, scale=0.5, arena="work_table")
   assert env.task.robot.config.base_pos == (-0.5, 0.0, 0.0)
@@ -216,7 +241,7 @@ def test_the_work_table_raises_the_arm_but_keeps_its_config():
 
 def test_the_batched_task_takes_its_subset_of_the_same_configs():
   resolved = settings.resolve(5)
-  assert resolved.task == config.TaskConfig().resolved(5, scattered=True)
+  assert resolved.task == config.TaskConfig().resolved(5, scattered=True, scale=1.0)
   assert resolved.cursor_config == config.CursorConfig()
   assert resolved.spread == config.SCATTER_SPREAD
   assert resolved.thresholds.distance == config.DISTANCE_THRESHOLD

@@ -25,10 +25,12 @@ FURNITURE = "table_four_leg_lack"
 
 @pytest.fixture(scope="module")
 def camera_file(tmp_path_factory, gl):
-  """Two short oracle episodes with 16-pixel front images, written by the CLI in-process."""
+  """Two short oracle episodes with 16-pixel front images, written by the CLI in-process
+  (cut at 1.5 s, before the oracle completes the table: kept with --keep-failures)."""
   path = str(tmp_path_factory.mktemp("demos") / "demos.hdf5")
   assert collect.main(["--episodes", "2", "--out", path, "--cameras", "front", "--image-size",
-                       "16", "--workers", "1", "--time-limit", "1.5", "--seed", "5"]) == 0
+                       "16", "--workers", "1", "--time-limit", "1.5", "--seed", "5",
+                       "--keep-failures"]) == 0
   return path
 
 
@@ -85,6 +87,39 @@ def test_replay_detects_a_changed_action_and_rerenders(camera_file, tmp_path):
   with h5py.File(camera_file, "r") as original, h5py.File(rendered, "r") as new:
     np.testing.assert_array_equal(new["data/demo_1/obs/cameras.front_rgb"][()],
                                   original["data/demo_1/obs/cameras.front_rgb"][()])
+
+
+def test_replay_cli_shows_progress_once(camera_file, capsys):
+  assert replay.main([camera_file]) == 0
+  captured = capsys.readouterr()
+  assert captured.err.count("100%") == 1 and "2/2" in captured.err
+  assert "2 demos replayed, largest divergence 0" in captured.out
+
+
+def test_collect_writes_only_complete_episodes_unless_asked(tmp_path, capsys):
+  cut = str(tmp_path / "cut.hdf5")
+  assert collect.main(["--episodes", "2", "--out", cut, "--workers", "1",
+                       "--time-limit", "0.5"]) == 1
+  captured = capsys.readouterr()
+  assert "0/2 episodes completed the furniture (success rate 0%)" in captured.out
+  assert "nothing written" in captured.err and "--keep-failures" in captured.err
+  assert captured.err.count("100%") == 1   # the progress bar's last line, once
+  assert not (tmp_path / "cut.hdf5").exists()
+  full = str(tmp_path / "full.hdf5")
+  assert collect.main(["--episodes", "1", "--out", full, "--workers", "1", "--seed", "2"]) == 0
+  assert "1/1 episodes completed the furniture (success rate 100%)" in capsys.readouterr().out
+  with h5py.File(full, "r") as f:
+    assert f["data/demo_0"].attrs["success"]
+    # The file names the scale the robot loaded at, whatever the default later becomes.
+    assert hdf5.read_env_args(f)["env_kwargs"]["scale"] == 1.0
+
+
+def test_collect_refuses_a_pair_the_expert_is_not_measured_on(tmp_path, capsys):
+  out = str(tmp_path / "jaco.hdf5")
+  assert collect.main(["--robot", "jaco", "--episodes", "1", "--out", out]) == 2
+  err = capsys.readouterr().err
+  assert "the jaco expert is not measured to assemble 'table_four_leg_lack'" in err
+  assert "box_open_kuggis" in err
 
 
 def test_full_oracle_demo_labels_connections_and_replays_them():
@@ -307,4 +342,4 @@ def test_every_robot_has_an_expert_and_arms_need_task_space():
   assert set(registry.ROBOTS) == set(ikea_suite.robot_names())
   assert experts.make(ikea_suite.load(FURNITURE, "baxter")).name == "two_arm"
   with pytest.raises(ikea_suite.IkeaSuiteError, match="task_space"):
-    experts.make(ikea_suite.load(FURNITURE, "jaco", control_mode="joint_position"))
+    experts.make(ikea_suite.load("box_open_kuggis", "jaco", control_mode="joint_position"))

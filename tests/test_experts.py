@@ -19,13 +19,14 @@ from ikea_suite.experts import single_arm
 from tests import helpers
 
 
-@pytest.mark.parametrize("robot,kind", [("cursor", cursor_oracle.CursorOracle),
-                                        ("sawyer", single_arm.ArmAssemblyController),
-                                        ("panda", single_arm.ArmAssemblyController),
-                                        ("jaco", single_arm.ArmAssemblyController),
-                                        ("baxter", bimanual.TwoArmExpert)])
-def test_make_expert_returns_the_robots_policy_with_reset(robot, kind):
-  env = ikea_suite.load("table_four_leg_lack", robot, seed=0)
+@pytest.mark.parametrize("robot,furniture,kind", [
+    ("cursor", "table_four_leg_lack", cursor_oracle.CursorOracle),
+    ("sawyer", "table_four_leg_lack", single_arm.ArmAssemblyController),
+    ("panda", "table_four_leg_lack", single_arm.ArmAssemblyController),
+    ("jaco", "box_open_kuggis", single_arm.ArmAssemblyController),
+    ("baxter", "table_four_leg_lack", bimanual.TwoArmExpert)])
+def test_make_expert_returns_the_robots_policy_with_reset(robot, furniture, kind):
+  env = ikea_suite.load(furniture, robot, seed=0)   # each arm at its work scale
   expert = experts.make_expert(env)
   assert isinstance(expert, kind)
   expert.reset()
@@ -51,10 +52,28 @@ def test_supported_names_the_robots_with_experts():
       assert 0.2 <= experts.supported_scale(robot, furniture) <= 2.0
 
 
-def test_require_supported_rejects_an_unmeasured_pair():
-  env = ikea_suite.load("bed_slatted_junior_pine", "jaco")
-  with pytest.raises(ikea_suite.UnknownNameError, match="furniture the jaco expert assembles"):
-    experts.make_expert(env, require_supported=True)
+def test_make_expert_refuses_an_unmeasured_pair_and_names_what_it_assembles():
+  env = ikea_suite.load("table_four_leg_lack", "jaco")
+  with pytest.raises(ikea_suite.UnsupportedPairError) as info:
+    experts.make_expert(env)
+  message = str(info.value)
+  assert "the jaco expert is not measured to assemble 'table_four_leg_lack'" in message
+  assert all(name in message for name in experts.supported("jaco"))
+  assert "require_supported=False" in message
+  assert isinstance(experts.make_expert(env, require_supported=False),
+                    single_arm.ArmAssemblyController)
+
+
+def test_make_expert_refuses_a_listed_furniture_at_another_scale():
+  # At full size the Sawyer's expert makes 3 of the Lack table's 4 connections: refused.
+  full = ikea_suite.load("table_four_leg_lack", "sawyer", scale=1.0)
+  with pytest.raises(ikea_suite.UnsupportedPairError,
+                     match="assembles 'table_four_leg_lack' at scale 0.5, not 1; load it with "
+                           "scale=0.5"):
+    experts.make_expert(full)
+  experts.make_expert(full, require_supported=False)
+  experts.check_supported("sawyer", "table_four_leg_lack", 0.5)
+  experts.check_supported("cursor", "table_four_leg_lack", 0.7)   # every model, any scale
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
@@ -135,11 +154,20 @@ def test_expert_supported_pairs_are_loadable_pairs():
   assert {f for f, r in pairs if r == "cursor"} == set(ikea_suite.furniture_names())
 
 
-def test_rollout_cli_runs_the_expert(capsys):
+def test_rollout_cli_runs_the_arms_expert_at_its_work_scale_by_default(capsys):
   from ikea_suite import cli
-  assert cli.main(["--policy", "expert", "--robot", "sawyer", "--scale", "0.5",
-                   "--time-limit", "1"]) == 0
+  assert cli.main(["--robot", "sawyer", "--time-limit", "1"]) == 0
   assert "expert policy" in capsys.readouterr().out
+  assert cli.main(["--robot", "sawyer", "--scale", "1.0", "--time-limit", "1"]) == 2
+  assert "at scale 0.5, not 1; load it with scale=0.5" in capsys.readouterr().err
+
+
+def test_rollout_cli_refuses_an_unmeasured_pair_naming_what_the_expert_assembles(capsys):
+  from ikea_suite import cli
+  assert cli.main(["--policy", "expert", "--robot", "jaco"]) == 2
+  err = capsys.readouterr().err
+  assert "the jaco expert is not measured to assemble 'table_four_leg_lack'" in err
+  assert all(name in err for name in experts.supported("jaco"))
 
 
 def test_supported_lists_follow_the_listing_rule_over_the_measurements():

@@ -193,6 +193,6 @@ def test_jaco_holds_a_work_scale_leg_between_thumb_and_fingers():
   # thumb (1 N m) and push the leg towards it over the first 1.5 s of the carry, until they
   # reach their closed limit. On a softer floor (MuJoCo's default impedance rather than
   # physics_settings.SUPPORT_SOLIMP) it is 5.3 mm.
-  assert jaco.Jaco.WORK_SCALE == 0.5
+  assert jaco.Jaco.CONFIG.WORK_SCALE == 0.5
   mass, slip = _hold_test("jaco", *_LEG, scale=0.5)
   assert mass == pytest.approx(0.19 / 8, rel=0.05) and slip < 0.005

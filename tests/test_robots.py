@@ -49,7 +49,7 @@ _FULL_SIZE_SPILLS = pytest.mark.xfail(strict=True, reason=(
 @pytest.mark.parametrize("robot", [pytest.param(r, marks=_FULL_SIZE_SPILLS)
                                    if r in ("jaco", "baxter") else r for r in ARMS])
 def test_home_pose_points_tool_down_and_parts_lie_within_reach(robot):
-  env = ikea_suite.load("table_four_leg_lack", robot, seed=1)
+  env = ikea_suite.load("table_four_leg_lack", robot, seed=1, scale=1.0)   # the full-size layout
   arm = env.task.robot
   base_pos, _ = arm.base_pose
   within = []

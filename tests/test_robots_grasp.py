@@ -22,7 +22,7 @@ def _run_until(env, controller, phase, max_steps=400):
 
 
 def test_sawyer_lifts_a_leg_by_friction_and_holds_it_two_seconds_while_moving():
-  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=3)
+  env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=3, scale=1.0)   # full-size leg
   env.reset()
   controller = single_arm.ArmAssemblyController(env)
   _run_until(env, controller, Phase.ALIGN)   # reached, descended, closed, lifted
@@ -66,7 +66,7 @@ def test_sawyer_lifts_a_leg_by_friction_and_holds_it_two_seconds_while_moving():
 def test_scripted_sawyer_connects_the_first_leg_from_random_starts(seed):
   # Full size. Its fingers one slot in open to 60 mm (grippers.RETHINK_SLOT_1): the Lack's
   # 50 mm legs leave 5 mm a side and the descent landed on them; a 35 mm stool leg fits.
-  env = ikea_suite.load("stool_square_pine", "sawyer", seed=seed)
+  env = ikea_suite.load("stool_square_pine", "sawyer", seed=seed, scale=1.0)
   timestep = env.reset()
   controller = single_arm.ArmAssemblyController(env)
   rewards = []

@@ -86,3 +86,31 @@ def test_teleop_options_open_arms_in_either_task_space_delta_mode():
   assert keymap.KeyboardCommand(env.task.action_names).num_agents == 1
   with pytest.raises(ikea_suite.IkeaSuiteError, match="control_mode"):   # the Cursor has none
     hdf5.load_env(hdf5.env_args("table_four_leg_lack", "cursor", cli.load_options("cursor", "impedance")))
+
+
+def test_teleop_without_a_display_says_so_and_points_to_the_headless_api(
+    monkeypatch, capsys, tmp_path):
+  from ikea_suite.teleop import cli
+  monkeypatch.setattr(cli.sys, "platform", "linux")
+  monkeypatch.delenv("DISPLAY", raising=False)
+  monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+  with pytest.raises(ikea_suite.IkeaSuiteError, match="needs a display") as info:
+    cli.check_display()
+  assert "ikea_suite.teleop.session.TeleopSession" in str(info.value)
+  out = tmp_path / "teleop.hdf5"
+  assert cli.main(["--out", str(out)]) == 2
+  err = capsys.readouterr().err
+  assert "needs a display (neither DISPLAY nor WAYLAND_DISPLAY is set)" in err
+  assert "TeleopSession" in err and not out.exists()
+
+
+def test_teleop_with_a_display_glfw_cannot_open_says_so(monkeypatch):
+  # MuJoCo's viewer would end the process there, past any handler: it is checked first.
+  import glfw
+  from ikea_suite.teleop import cli
+  monkeypatch.setattr(cli.sys, "platform", "linux")
+  monkeypatch.setenv("DISPLAY", ":77")
+  monkeypatch.setattr(glfw, "init", lambda: False)
+  with pytest.raises(ikea_suite.IkeaSuiteError,
+                     match="needs a display \\(GLFW cannot open the display ':77'\\)"):
+    cli.check_display()

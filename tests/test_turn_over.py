@@ -23,6 +23,12 @@ def _env(seed=0):
   return env
 
 
+def _expert(env):
+  # The Panda's expert is not listed for this chair (the turn-over is the skill under
+  # test, not the whole model's success rate), so it runs outside its measured pairs.
+  return experts.make_expert(env, require_supported=False)
+
+
 def _part(env, name):
   return [p.name for p in env.task.furniture.spec.parts].index(name)
 
@@ -64,7 +70,7 @@ def test_panda_turns_the_chair_over_and_completes_it():
   # in beside the base (its fourth joint at -2.84 rad) and the back falls (4 of 5
   # connections).
   env = ikea_suite.load(CHAIR, "panda", scale=0.5, seed=2)
-  expert = experts.make_expert(env)
+  expert = _expert(env)
   timestep, phases = env.reset(), set()
   expert.reset()
   seat = env.task.root_part
@@ -99,7 +105,7 @@ def test_the_chair_is_rolled_so_that_its_back_slot_lies_out_of_the_base_s_way():
 def test_a_part_put_back_from_the_assembly_is_lifted_off_it_first():
   # Dragged sideways off the seat, a chair's back knocked the turned chair over.
   env = _env(seed=1)
-  expert = experts.make_expert(env)
+  expert = _expert(env)
   physics, furniture = env.physics, env.task.furniture
   leg = _part(env, "leg0")
   seat_pos, _ = part_geometry.part_pose(physics, furniture, env.task.root_part)
@@ -154,7 +160,7 @@ def test_a_hand_reaching_in_across_the_standing_legs_is_in_their_way():
   seat, _ = part_geometry.part_pose(env.physics, env.task.furniture, env.task.root_part)
   tool = corner + [0.0, 0.0, 0.1]   # about where the fourth leg is held, going in
   inward = np.array([*(seat[:2] - corner[:2]), 0.0]) / np.linalg.norm(seat[:2] - corner[:2])
-  closing_local = experts.make_expert(env).closing_local()
+  closing_local = _expert(env).closing_local()
 
   def pointing(axis):   # the fingers closing across a standing leg, horizontally
     return arm_motion.tool_rotation(axis, np.cross([0.0, 0.0, 1.0], axis), closing_local)
@@ -177,7 +183,7 @@ def test_a_failed_turn_over_try_lets_the_arm_unwind_before_the_next():
   joints = physics.bind(robot.arms[0].joints)
   joints.qpos = joints.qpos + np.array([1.3, 0, 0, 0, 0, 0, -1.2])   # wound, as after a try
   physics.forward()
-  expert = experts.make_expert(env)
+  expert = _expert(env)
   expert.reset()
   expert._connections = len(env.task.state.connections)   # none made since it last looked
   assert expert._unwinder.distance_from_home(robot, physics, 0) > single_arm.UNWIND_FROM
@@ -196,7 +202,7 @@ def test_the_unwinding_after_a_turn_over_passes_over_the_chair():
   # Tuning seed 0: the straight joint path home from the rolled wrist swung the fingers
   # 0.2 m down into the chair just stood up, and the rising hand flipped it onto its seat.
   env = ikea_suite.load(CHAIR, "panda", scale=0.5, seed=0)
-  expert = experts.make_expert(env)
+  expert = _expert(env)
   timestep = env.reset()
   expert.reset()
   seat, phase = env.task.root_part, single_arm.Phase
@@ -221,7 +227,7 @@ def test_keep_clear_raises_the_unwinding_waypoints_over_the_assembly_but_not_hom
   env = _env()
   _legs_joined(env, 4)
   robot, physics = env.task.robot, env.physics
-  route = experts.make_expert(env)._clearance
+  route = _expert(env)._clearance
   seat_pos, _ = part_geometry.part_pose(physics, env.task.furniture, env.task.root_part)
   low = np.array([seat_pos[0], seat_pos[1], 0.05])
   np.testing.assert_allclose(route.above_assembly(low), [*low[:2], route.safe_height()])
@@ -241,7 +247,7 @@ def test_keep_clear_raises_the_unwinding_waypoints_over_the_assembly_but_not_hom
 
 def _turn_over_started(env):
   """A TurnOver of `env`'s chair (legs joined) started from the present state."""
-  expert = experts.make_expert(env)
+  expert = _expert(env)
   expert.reset()
   chosen = expert._turn_over.start(expert.closing_local())
   assert chosen

@@ -50,9 +50,9 @@ def resolve(num_parts, **options):
   for key in options:
     if key not in OPTIONS:
       raise errors.UnknownNameError("option", key, OPTIONS)
-  task = config.TaskConfig(**{k: v for k, v in options.items() if k in TASK_OPTIONS}).resolved(
-      num_parts, scattered=True)
   cursor = config.CursorConfig(**{k: v for k, v in options.items() if k in CURSOR_OPTIONS})
+  task = config.TaskConfig(**{k: v for k, v in options.items() if k in TASK_OPTIONS}).resolved(
+      num_parts, scattered=True, scale=cursor.WORK_SCALE)
   return Settings(
       thresholds=alignment.Thresholds.of(task),
       cursor=cursor_lib.CursorSettings(

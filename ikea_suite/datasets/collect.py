@@ -6,7 +6,10 @@
 Episodes run in `--workers` processes on this machine (one environment per
 process, built once), or with `--ray ADDRESS` as Ray tasks on a cluster (the
 `ray` extra). Episode i uses seed `--seed + i`; the file lists them in seed
-order whatever order they finish in.
+order whatever order they finish in. Only episodes that complete the furniture are
+written unless `--keep-failures`; the command prints the success rate either way. The
+expert must be measured to assemble the furniture at that scale
+(ikea_suite.experts.supported); each robot loads at its work scale unless `--scale`.
 """
 
 import argparse
@@ -16,14 +19,13 @@ import sys
 from collections.abc import Iterator
 from typing import Any
 
-import tqdm
-
 import ikea_suite
 from ikea_suite import config
 from ikea_suite import environment
 from ikea_suite import errors
 from ikea_suite.datasets import experts
 from ikea_suite.datasets import hdf5
+from ikea_suite.datasets import progress as progress_lib
 from ikea_suite.datasets import recorder
 
 _worker_env = None   # per-process environment and expert, built by _init_worker
@@ -139,8 +141,7 @@ def collect(args: dict[str, Any], episodes: int, seed: int = 0, workers: int = 1
   seeds = list(range(seed, seed + episodes))
   source = (episodes_on_ray(args, seeds, ray_address, workers) if ray_address
             else episodes_in_processes(args, seeds, workers))
-  done = list(tqdm.tqdm(source, total=episodes, unit="episode", disable=not progress,
-                        desc="collect"))
+  done = list(progress_lib.progress(source, episodes, "collect", "episode", enabled=progress))
   return sorted(done, key=lambda e: e.seed)
 
 
@@ -158,7 +159,10 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
   parser.add_argument("--time-limit", type=float, default=None, help="seconds of simulated time")
   parser.add_argument("--reward", default=config.TaskConfig.reward, choices=config.REWARDS)
   parser.add_argument("--scale", type=float, default=None,
-                      help="furniture size factor (arms: their WORK_SCALE, e.g. 0.5)")
+                      help="furniture size factor (default: the robot's work scale, 1 for "
+                           "the Cursor, 0.5 for the arms)")
+  parser.add_argument("--keep-failures", action="store_true",
+                      help="also write episodes that did not complete the furniture")
   parser.add_argument("--valid-fraction", type=float, default=0.1)
   parser.add_argument("--ray", default=None, metavar="ADDRESS",
                       help="run episodes on the Ray cluster at ADDRESS (ray extra)")
@@ -175,24 +179,37 @@ def main(argv: list[str] | None = None) -> int:
     options["time_limit"] = a.time_limit
   if a.scale is not None:
     options["scale"] = a.scale
-  args = hdf5.env_args(a.furniture, a.robot, options)
   try:
     if a.episodes < 1 or a.workers < 1:
       raise errors.OptionValueError("--episodes and --workers must be at least 1")
-    probe = hdf5.load_env(args)   # fails fast on a bad name or a robot without an expert
+    # Fails fast on a bad name, a robot without an expert or a pair it is not measured
+    # to assemble; the file records the scale the robot loaded at, so that replays
+    # rebuild this environment whatever the default.
+    probe = hdf5.load_env(hdf5.env_args(a.furniture, a.robot, options))
     experts.make(probe)
+    options["scale"] = probe.task.config.scale
     action_names = list(probe.task.action_names)
     probe.close()
+    args = hdf5.env_args(a.furniture, a.robot, options)
     episodes = collect(args, a.episodes, a.seed, a.workers, a.ray)
   except errors.IkeaSuiteError as e:
     print(f"error: {e}", file=sys.stderr)
     return 2
-  count = hdf5.write(a.out, episodes, args, a.valid_fraction, action_names)
-  steps = sum(e.num_samples for e in episodes)
   successes = sum(e.success for e in episodes)
+  print(f"{successes}/{len(episodes)} episodes completed the furniture "
+        f"(success rate {successes / len(episodes):.0%})")
+  kept = episodes if a.keep_failures else [e for e in episodes if e.success]
+  if not kept:
+    print(f"error: no episode completed {a.furniture}; nothing written to {a.out} "
+          f"(--keep-failures writes failed episodes too)", file=sys.stderr)
+    return 1
+  count = hdf5.write(a.out, kept, args, a.valid_fraction, action_names)
+  steps = sum(e.num_samples for e in kept)
   size = os.path.getsize(a.out)
-  print(f"wrote {count} demos, {steps} steps, {successes}/{count} successful, to {a.out} "
-        f"({size / 1e6:.2f} MB)")
+  dropped = len(episodes) - len(kept)
+  print(f"wrote {count} demos ({sum(e.success for e in kept)} successful"
+        + (f"; {dropped} failed left out, --keep-failures keeps them" if dropped else "")
+        + f"), {steps} steps, to {a.out} ({size / 1e6:.2f} MB)")
   return 0
 
 

@@ -9,7 +9,7 @@ the stored actions; after step t the flattened state is compared with
 `states[t + 1]`. Divergence is the largest absolute difference of any state
 entry; on the same machine and versions it is 0. With `--render` the replay
 also renders the chosen cameras and writes a copy of the file whose obs and
-next_obs include those images.
+next_obs include those images. A progress bar (demos replayed) shows on stderr.
 """
 
 import argparse
@@ -25,6 +25,7 @@ from ikea_suite import environment
 from ikea_suite import errors
 from ikea_suite.datasets import hdf5
 from ikea_suite.datasets import mj_state
+from ikea_suite.datasets import progress as progress_lib
 
 
 @dataclasses.dataclass
@@ -77,7 +78,7 @@ def replay_demo(env: environment.Environment, demo: h5py.Group, name: str, keep_
 
 
 def replay_file(path: str, render_to: str | None = None, cameras: tuple[str, ...] = (),
-                image_size: int = 84) -> list[Replay]:
+                image_size: int = 84, progress: bool = True) -> list[Replay]:
   """Replays every demo of `path`; with `render_to`, writes a copy with re-rendered images.
 
   Args:
@@ -85,6 +86,7 @@ def replay_file(path: str, render_to: str | None = None, cameras: tuple[str, ...
     render_to: path of the copy with rendered images, or None to only replay.
     cameras: camera names to render (with render_to).
     image_size: rendered image side, pixels.
+    progress: show a progress bar (demos replayed) on stderr.
   Returns:
     One Replay per demo, in index order.
   Raises:
@@ -98,7 +100,9 @@ def replay_file(path: str, render_to: str | None = None, cameras: tuple[str, ...
     keep = tuple(k for k in env.observation_spec() if k.startswith("cameras/")) if render_to else ()
     if render_to and not keep:
       raise errors.OptionValueError("--render needs at least one camera (--cameras front)")
-    reports = [replay_demo(env, f["data"][name], name, keep) for name in hdf5.demo_names(f)]
+    names = hdf5.demo_names(f)
+    reports = [replay_demo(env, f["data"][name], name, keep) for name in
+               progress_lib.progress(names, len(names), "replay", "demo", enabled=progress)]
     env.close()
   if render_to:
     shutil.copyfile(path, render_to)

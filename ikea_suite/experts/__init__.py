@@ -1,6 +1,6 @@
 """Scripted experts: policies that assemble furniture through the action vector a learner sends.
 
-    env = ikea_suite.load("table_four_leg_lack", "sawyer", scale=0.5, seed=1000)
+    env = ikea_suite.load("table_four_leg_lack", "sawyer", seed=1000)   # at its work scale
     expert = ikea_suite.experts.make_expert(env)
     expert.reset(); timestep = env.reset()
     while not timestep.last():
@@ -12,7 +12,8 @@ for the Sawyer, Panda and Jaco (single_arm.py) and the Baxter's two-arm expert
 (bimanual.py). Which expert drives which robot, in which control modes, and which
 furniture it assembles at what scale is the registry's (registry.py, with the
 measurements in supported.json); `supported(robot)` lists the furniture an expert
-completed in at least 80% of its episodes on fresh seeds.
+completed in at least 80% of its episodes on fresh seeds, and make_expert refuses any
+other furniture, or another scale than the measured one, unless require_supported=False.
 
 The arm experts' skills, each in its own module: the top-down grasp (top_down_grasp.py,
 with finger_room.py and below_work_scale.py), which part next (next_part.py), the mate
@@ -24,6 +25,7 @@ privileged state (sensing.py, part_geometry.py); which parts fit a gripper
 
 from ikea_suite.experts.registry import Measurement
 from ikea_suite.experts.registry import ROBOTS
+from ikea_suite.experts.registry import check_supported
 from ikea_suite.experts.registry import make_expert
 from ikea_suite.experts.registry import measurement
 from ikea_suite.experts.registry import measurements
@@ -31,5 +33,5 @@ from ikea_suite.experts.registry import supported
 from ikea_suite.experts.registry import supported_pairs
 from ikea_suite.experts.registry import supported_scale
 
-__all__ = ["Measurement", "ROBOTS", "make_expert", "measurement", "measurements", "supported",
+__all__ = ["Measurement", "ROBOTS", "check_supported", "make_expert", "measurement", "measurements", "supported",
            "supported_pairs", "supported_scale"]

@@ -25,7 +25,7 @@ PAD_ROOM = 0.02
 
 def active(env):
   """True for furniture built smaller than the robot's work scale."""
-  return env.task.furniture.scale < type(env.task.robot).WORK_SCALE - 1e-9
+  return env.task.furniture.scale < env.task.robot.CONFIG.WORK_SCALE - 1e-9
 
 
 def grip_shift(furniture, part):

@@ -97,7 +97,7 @@ def main(argv=None):
   parser.add_argument("--scale", type=float, default=None, help="default: the robot's WORK_SCALE")
   parser.add_argument("--models", nargs="+", default=None)
   args = parser.parse_args(argv)
-  scale = args.scale or registry.get(args.robot).factory.WORK_SCALE
+  scale = args.scale or registry.get(args.robot).factory.CONFIG.WORK_SCALE
   fits = 0
   for name in args.models or catalog.names():
     env = ikea_suite.load(name, args.robot, scale=scale, seed=0)

@@ -216,23 +216,54 @@ def supported_pairs() -> tuple[tuple[str, str], ...]:
   return tuple((f, r) for r in ROBOTS for f in supported(r))
 
 
-def make_expert(env: environment.Environment, require_supported: bool = False) -> Any:
+def make_expert(env: environment.Environment, require_supported: bool = True) -> Any:
   """The scripted expert for `env`'s robot: a callable TimeStep -> action with reset().
 
   Args:
     env: an ikea_suite environment (arms in one of their expert's control_modes:
       "task_space" or "impedance").
-    require_supported: raise unless the (furniture, robot) pair is in supported().
+    require_supported: refuse a furniture outside supported(robot), or one built at
+      another scale than the expert was measured at (there it runs, but rarely completes
+      the furniture, and says nothing); False runs the expert anyway (sweeps, experiments
+      on new models).
   Returns:
     A policy object with reset(), __call__(timestep) and subtask.
   Raises:
-    UnknownNameError: a robot with no expert, or (require_supported) an unsupported pair.
+    UnknownNameError: a robot with no expert.
+    UnsupportedPairError: (require_supported) a furniture or scale the expert is not
+      measured to assemble; the message names the furniture it assembles.
     IkeaSuiteError: an arm in a control mode its expert does not drive.
   """
   entry = expert(env.task.robot.mjcf_model.model)
   if require_supported:
-    supported_scale(entry.robot, env.task.furniture.name)
+    check_supported(entry.robot, env.task.furniture.name, env.task.furniture.scale)
   return entry.policy(env)
+
+
+def check_supported(robot: str, furniture: str, scale: float) -> None:
+  """Refuses a (furniture, scale) that `robot`'s expert is not measured to assemble.
+
+  Args:
+    robot: a robot name with an expert (ROBOTS).
+    furniture: a furniture name.
+    scale: the scale the furniture is built at (load(scale=...)).
+  Raises:
+    UnknownNameError: a robot with no expert.
+    UnsupportedPairError: a furniture outside supported(robot), or a scale other than
+      its measurement's (an expert listed for every model takes any scale).
+  """
+  names = supported(robot)
+  anyway = "make_expert(env, require_supported=False) runs it anyway"
+  if furniture not in names:
+    raise errors.UnsupportedPairError(
+        f"the {robot} expert is not measured to assemble {furniture!r}; it assembles "
+        f"{len(names)} furniture models: {', '.join(names)} (experts.supported({robot!r})); "
+        f"{anyway}")
+  measured = measurement(robot, furniture).scale
+  if not expert(robot).every_model and abs(scale - measured) > 1e-9:
+    raise errors.UnsupportedPairError(
+        f"the {robot} expert assembles {furniture!r} at scale {measured:g}, not {scale:g}; "
+        f"load it with scale={measured:g}, or {anyway}")
 
 
 def summarize(robot: str, furniture: str, episodes: Sequence[Mapping[str, Any]]) -> Measurement:

@@ -45,7 +45,7 @@ SMALL_SCALES = {
 def work_scale(robot, furniture):
   """The load(scale=...) at which `robot`'s expert assembles `furniture`."""
   from ikea_suite.robots import registry
-  default = registry.get(robot).factory.WORK_SCALE
+  default = registry.get(robot).factory.CONFIG.WORK_SCALE
   return SMALL_SCALES.get(robot, {}).get(furniture, default)
 
 
@@ -67,7 +67,7 @@ def fit_scale(robot, furniture, arm=0, clearance=None):
                      for part in range(len(env.task.furniture.parts))
                      if part != env.task.root_part])
   largest = (opened - clearance) / widths.max()   # widths scale with the furniture
-  scale = min(registry.get(robot).factory.WORK_SCALE, np.floor(100 * largest - 1e-6) / 100)
+  scale = min(registry.get(robot).factory.CONFIG.WORK_SCALE, np.floor(100 * largest - 1e-6) / 100)
   if scale < scaling.MIN_SCALE or scale * widths.min() <= closed:
     return None
   return float(scale)

@@ -28,10 +28,9 @@ class Robot(composer.Entity, abc.ABC):
   robot never sees it.
   """
 
-  # Furniture scale (load(scale=...)) that fits this robot's reach; 1.0: full size.
-  WORK_SCALE = 1.0
   # The dataclass of the load() options this robot takes (config.CursorConfig,
-  # config.ArmConfig's subclass for an arm): their only defaults and checks.
+  # config.ArmConfig's subclass for an arm): their only defaults and checks, and its
+  # WORK_SCALE, the furniture scale it loads at when load() gets none.
   CONFIG = None
 
   @property

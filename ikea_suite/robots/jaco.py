@@ -21,6 +21,7 @@ _TORQUE_LIMITS = (30.5, 30.5, 30.5, 6.8, 6.8, 6.8)
 _SEED = (np.pi, 3.5, 1.6, -0.45, 1.5, 0.2)
 _FINGER_OPEN, _FINGER_CLOSED = 0.15, 1.35   # the hand's finger joint range
 _FINGER_KP = 5.0
+WRIST_CAMERA_TILT = 10.0   # degrees from the approach axis towards the fingers
 # The KG-3's ~25 N grip comes from 1 N m per finger joint (kinova_hand.json, after dm_control).
 _HAND_SHEET = "kinova_hand"
 # Finger contacts as stiff as MuJoCo integrates stably (time constant twice the timestep,
@@ -69,8 +70,13 @@ class Jaco(manipulator.Manipulator):
     tcp_pos = np.array([grip.pos[0], grip.pos[1], pinch.pos[2]])
     tcp = grip.parent.add("site", name="tcp", pos=tcp_pos, quat=(0.0, 1.0, 0.0, 0.0),
                           size=[0.005], group=4)
-    camera = grip.parent.add("camera", name="eye_in_hand", pos=(0.0, 0.07, -0.06),
-                             xyaxes=(1, 0, 0, 0, 0, 1), fovy=75)
+    # The wrist camera, 7 cm off the hand's axis (its -y side, where two fingers frame the
+    # grasp rather than one filling the view), looks along the approach (the hand's -z)
+    # tilted WRIST_CAMERA_TILT towards the axis: the fingertips and the part between them
+    # are in view (looking along the hand's y it would see the horizon, the tool pointing down).
+    tilt = np.radians(WRIST_CAMERA_TILT)
+    camera = grip.parent.add("camera", name="eye_in_hand", pos=(0.0, -0.07, -0.06),
+                             xyaxes=(1, 0, 0, 0, np.cos(tilt), np.sin(tilt)), fovy=75)
     actuators = [hand.actuator.add(
         "position", name=f"{joint.name}_position", joint=joint, kp=_FINGER_KP, ctrllimited=True,
         ctrlrange=(_FINGER_OPEN, _FINGER_CLOSED + finger_torque / _FINGER_KP), forcelimited=True,

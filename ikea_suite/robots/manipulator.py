@@ -73,10 +73,6 @@ class Manipulator(base.Robot):
   PLACEMENT_SECTOR = np.radians(110)
   # (bearing, metres): parts beyond that bearing may lie out that far (base.ReachZone).
   PLACEMENT_SIDE_REACH = None
-  # Furniture scale that fits this arm's reach (load(scale=...)): at 0.5 a 55 cm table
-  # top is 27.5 cm and every part of the small furniture lies within REACH on the work
-  # area in front of the base, the way FurnitureBench assembles miniature furniture.
-  WORK_SCALE = 0.5
   KP_PER_NM = 10.0               # position gain per N m of torque limit
   VELOCITY_LIMIT = 2.0           # rad/s per joint in the IK
   # {arm joint index: (low, high) rad} the task-space IK keeps within, inside the physical

@@ -16,6 +16,7 @@ from ikea_suite.tasks import alignment
 from ikea_suite.tasks import arm_placement
 from ikea_suite.tasks import assembly_state
 from ikea_suite.tasks import collision_groups
+from ikea_suite.tasks import framing
 from ikea_suite.tasks import placement
 from ikea_suite.tasks import planner
 from ikea_suite.tasks import rewards
@@ -57,7 +58,7 @@ class Assembly(composer.Task):
   def __init__(self, arena, furniture, robot, config=None, initializer=None):
     self._arena, self._furniture, self._robot = arena, furniture, robot
     config = (config_lib.TaskConfig() if config is None else config).resolved(
-        len(furniture.parts), scattered=robot.reach_zone is None)
+        len(furniture.parts), scattered=robot.reach_zone is None, scale=furniture.scale)
     self._config = config
     physics_settings.configure_arena(arena.mjcf_model)
     self._thresholds = alignment.Thresholds.of(config)
@@ -65,6 +66,7 @@ class Assembly(composer.Task):
     self._connection_reward, self._completion_bonus = connection_reward, completion_bonus
     furniture.attach_to(arena)
     robot.mount(arena)
+    framing.frame_front_camera(arena, furniture, robot, config.spread)
     self._table = furniture.connectors
     self._state = assembly_state.AssemblyState(len(furniture.parts), len(self._table))
     self._welds = welds.PartWelds(arena, furniture)
