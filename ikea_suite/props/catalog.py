@@ -7,8 +7,10 @@ collides through convex pieces of a decomposed mesh.
 
 A user adds a directory of model files with `register_models(directory)`;
 its models join the catalog under their file stems. A file that fails the
-format loader, or whose name is already taken, affects only itself: it is
-left out of the catalog and listed by `invalid_models()` with the reason.
+format loader or dm_control's build of its parts (model_format.check_buildable),
+or whose name is already taken, affects only itself: it is left out of the
+catalog and listed by `invalid_models()` with the reason. (The bundled models
+pass both by construction, pinned by tests, so only their format is read here.)
 """
 
 import dataclasses
@@ -55,6 +57,13 @@ class InvalidModel:
 _registered = []   # user directories, in the order they were registered
 
 
+def _read_checked(path):
+  """The spec of a user's model file, checked as load() will build it."""
+  spec = model_format.load_spec(str(path))
+  model_format.check_buildable(spec)
+  return spec
+
+
 def _entry(path, spec):
   meta = spec.metadata
   category = meta.get("category", "uncategorized")
@@ -71,12 +80,13 @@ def _scan():
   """(name -> Entry, [InvalidModel]) over the committed models and every registered directory."""
   valid, invalid = {}, []
   for directory in [paths.furniture_dir(), *_registered]:
+    read = _read_checked if directory != paths.furniture_dir() else model_format.load_spec
     for path in sorted(directory.glob("*.xml")):
       try:
         if path.stem in valid:
           raise errors.ModelFormatError(path, "<file>", f"the name {path.stem!r} is already "
                                         f"taken by {valid[path.stem].path}")
-        valid[path.stem] = _entry(path, model_format.load_spec(str(path)))
+        valid[path.stem] = _entry(path, read(path))
       except errors.ModelFormatError as e:
         invalid.append(InvalidModel(path.stem, str(path), e))
   return dict(sorted(valid.items())), invalid
@@ -112,10 +122,20 @@ def register_models(directory: str | os.PathLike) -> list[str]:
   directory = pathlib.Path(directory).expanduser().resolve()
   if not directory.is_dir():
     raise errors.ModelFormatError(directory, "<directory>", "no such directory to register")
-  if directory not in _registered:
+  added = directory not in _registered
+  if added:
     _registered.append(directory)
   _scan.cache_clear()
   model_format.load_spec.cache_clear()   # files may have changed since they were read
+  try:
+    entries()
+  except Exception:
+    # Reading files cannot fail outside ModelFormatError (load_spec); should the directory
+    # itself be unreadable, the catalog is left as it was.
+    if added:
+      _registered.remove(directory)
+    _scan.cache_clear()
+    raise
   return sorted(name for name, e in entries().items() if pathlib.Path(e.path).parent == directory)
 
 
@@ -199,7 +219,7 @@ def path_of(name: str | os.PathLike) -> str:
   """
   if _looks_like_path(name):
     path = str(pathlib.Path(name).expanduser())
-    model_format.load_spec(path)   # raises ModelFormatError naming the file and the fault
+    _read_checked(path)   # raises ModelFormatError naming the file and the fault
     return path
   if name in entries():
     return entries()[name].path
