@@ -35,6 +35,14 @@ def test_unknown_names_list_the_valid_ones(kwargs, kind, bad):
   assert all(name in message for name in valid)
 
 
+@pytest.mark.parametrize("kwargs, kind", [
+    ({"furniture": ["table_four_leg_lack"]}, "furniture"), ({"furniture": 5}, "furniture"),
+    ({"robot": ["cursor"]}, "robot"), ({"robot": None}, "robot")])
+def test_a_name_that_is_not_a_string_is_an_unknown_name(kwargs, kind):
+  with pytest.raises(ikea_suite.UnknownNameError, match=f"unknown {kind} .*; valid {kind} names"):
+    ikea_suite.load(**kwargs)
+
+
 def test_unknown_name_suggests_close_matches():
   with pytest.raises(ikea_suite.UnknownNameError, match="did you mean table_four_leg_lack"):
     ikea_suite.load("table_four_leg_lak")

@@ -221,7 +221,7 @@ def path_of(name: str | os.PathLike) -> str:
     path = str(pathlib.Path(name).expanduser())
     _read_checked(path)   # raises ModelFormatError naming the file and the fault
     return path
-  if name in entries():
+  if isinstance(name, str) and name in entries():   # a list is no name (nor hashable)
     return entries()[name].path
   broken = [m for m in _scan()[1] if m.name == name]
   if broken:

@@ -143,22 +143,16 @@ def part_xml(part, spec):
   return root
 
 
-def check_buildable(spec: furniture_spec.FurnitureSpec) -> None:
-  """Raises ModelFormatError where dm_control would refuse the parts load() builds.
-
-  Every part's `part_xml`, in one model named as the furniture prop is (each part as a
-  body with the free joint and inertial the arena gives it), is parsed by dm_control
-  (its identifiers may not contain '/', its schema and attribute types, the asset files
-  read), compiled (default classes, references) and attached to a scene (the namescope
-  rules for the furniture's name). Names are unique across the file (MuJoCo
-  requires it), so one model refuses nothing that the parts' own namescopes would take.
+def parts_xml(spec):
+  """One MJCF model of every part as load() builds it: each part's `part_xml` in a body
+  named after the part, with the free joint the arena gives it and the inertial the
+  furniture puts on it, all at the origin; the assets they use, once each.
 
   Args:
-    spec: a FurnitureSpec from load_spec.
-  Raises:
-    ModelFormatError: naming the file and dm_control's or MuJoCo's complaint.
+    spec: a FurnitureSpec.
+  Returns:
+    The <mujoco> element, named as the furniture prop is (a new tree).
   """
-  path = spec.path
   root = ET.Element("mujoco", model=spec.name)
   compiler = dict(spec.compiler)
   compiler.pop("angle", None)
@@ -179,6 +173,25 @@ def check_buildable(spec: furniture_spec.FurnitureSpec) -> None:
     if inertial is not None:
       ET.SubElement(body, "inertial", dict(inertial.attrib))
     body.extend(own.find("worldbody"))
+  return root
+
+
+def check_buildable(spec: furniture_spec.FurnitureSpec) -> None:
+  """Raises ModelFormatError where dm_control would refuse the parts load() builds.
+
+  The parts as load() builds them (`parts_xml`) are parsed by dm_control (identifiers
+  may not contain '/', its schema and attribute types, the asset files read), compiled
+  (default classes, references) and attached to a scene (the namescope rules for the
+  furniture's name). Names are unique across the file (MuJoCo requires it), so one
+  model refuses nothing that the parts' own namescopes would take.
+
+  Args:
+    spec: a FurnitureSpec from load_spec.
+  Raises:
+    ModelFormatError: naming the file and dm_control's or MuJoCo's complaint.
+  """
+  path = spec.path
+  root = parts_xml(spec)
   try:
     model = mjcf.from_xml_string(ET.tostring(root, encoding="unicode"),
                                  model_dir=str(pathlib.Path(path).parent))

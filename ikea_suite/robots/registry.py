@@ -27,7 +27,7 @@ def register(name, factory, tags=()):
 
 
 def get(name):
-  if name not in _ROBOTS:
+  if not isinstance(name, str) or name not in _ROBOTS:   # a list is no name (nor hashable)
     raise errors.UnknownNameError("robot", name, _ROBOTS)
   return _ROBOTS[name]
 

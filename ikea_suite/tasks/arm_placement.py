@@ -28,6 +28,7 @@ from ikea_suite.arenas import support as support_lib
 from ikea_suite.tasks import panel_placement
 from ikea_suite.tasks import placement
 from ikea_suite.tasks import planner
+from ikea_suite.tasks import resting
 
 # A root whose farthest connector would lie beyond ROOT_FAR of the arm's reach, lying
 # along the radius from the base, lies across it if that brings the farthest connector
@@ -116,6 +117,9 @@ class ReachableParts(placement.PartInitializer):
           f"across) does not fit on the work table ({2 * min(support.half_size):.2f} m); "
           f"use a smaller scale")
     self._racked = panel_placement.RackedPanels(spec, self._root, self._root_rest)
+    # Where the parts start: lying parts as ScatteredParts lays them, the root as it lies here.
+    self._rests = dict(self._groups.rests)
+    self._rests.update(resting.rests_on_support(spec, {self._root: self._root_rest}))
 
   def _across_if_far(self, table, rest, reach):
     """The root's resting rotation `rest`, turned a quarter turn about the vertical when,
@@ -168,7 +172,8 @@ class ReachableParts(placement.PartInitializer):
 
   def _place(self, physics, item, yaw_rot, xy):
     corners, centre, _ = self._item_footprint(item, yaw_rot)
-    shift = np.array([*(xy - centre), self._support.height - corners[:, 2].min() + 1e-3])
+    shift = np.array([*(xy - centre),
+                      placement.lift(item, corners, self._rests, self._support.height)])
     for index, rot, pos in item:
       part = self._furniture.parts[index]
       part.set_pose(physics, position=yaw_rot @ pos + shift,
@@ -179,7 +184,7 @@ class ReachableParts(placement.PartInitializer):
     items = self._groups.draw_items(random_state)   # single parts lie flat; joined groups upright
     root_item = next(item for item in items if any(i == self._root for i, _, _ in item))
     if len(root_item) == 1:   # the root alone: turned over when its mates attach from below
-      root_item = [(self._root, self._root_rest, np.zeros(3))]
+      root_item = [(self._root, self._rests[self._root].rotation, np.zeros(3))]
     offset, yaw_jitter = self._root_jitter
     yaw_rot = geometry.rot_z(self._heading + random_state.uniform(-yaw_jitter, yaw_jitter))
     _, _, radius = self._item_footprint(root_item, yaw_rot)
