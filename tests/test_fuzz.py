@@ -2,10 +2,12 @@
 accepted gives finite observations.
 
 Actions are fuzzed on environments loaded once (the Cursor, and every arm in every control
-mode, plus a Cursor whose episodes last two steps and which is never reset by the test, so
-that actions also reach a fresh environment and one whose episode has ended); load() options are fuzzed with a reset and two steps each, since a load takes
-0.3-1 s. The number of examples comes from the settings profile (tests/conftest.py):
-`--hypothesis-profile=long` for a long local search.
+mode, plus a Cursor whose episodes last two steps and which the test never resets, so that
+actions also reach a fresh environment and one whose episode has ended); load() options are
+fuzzed with a reset and two steps each, since a load takes 0.3-1 s. The number of examples
+comes from the settings profile (tests/conftest.py): in CI 200 action sequences and 33 sets
+of load() arguments besides the explicit examples; `--hypothesis-profile=long` for a long
+local search (4,000 and 666).
 """
 
 import functools
@@ -130,6 +132,8 @@ PLAUSIBLE = {
     "yaw_range": st.floats(0, 7),
     "randomize": st.sampled_from(["physics", "visual", "all", ["gravity"], {"friction": (0.5, 1.5)},
                                   {"part_mass": (0.5, 2.0)}, {"gravity": (9.0, 10.0)}]),
+    # No camera that renders: a frame costs more than the rest of an example.
+    "cameras": st.sampled_from([(), ("nope",)]),
     "camera_outputs": st.sampled_from([("rgb",), ("rgb", "depth"), ("nope",)]),
     "image_size": st.integers(8, 96),
     "goal_image": st.booleans(),
@@ -175,6 +179,8 @@ OPTION_CHECK_FAILURES = (
     ((FURNITURE, "cursor", 1.5, {}), "TypeError: Cannot cast scalar from dtype('float64') to int64"),
     ((FURNITURE, "cursor", -1, {}), "ValueError: Seed must be between 0 and 2**32 - 1"),
     ((FURNITURE, "cursor", 2 ** 32, {}), "ValueError: Seed must be between 0 and 2**32 - 1"),
+    ((FURNITURE, "cursor", (), {}), "ValueError: Seed must be non-empty"),
+    ((FURNITURE, "cursor", 0, {"scene": {}}), "TypeError: unhashable type: 'dict'"),
     ((FURNITURE, "cursor", 0, {"randomize": {"part_mass": (0.0, 0.0)}}),
      "PhysicsError: mjWARN_INERTIA, in reset()"),
     ((FURNITURE, "cursor", 0, {"control_timestep": 192540537678.0}),

@@ -23,10 +23,14 @@ class WorkArea:
   PLACEMENT_SECTOR = np.radians(110)
   # (bearing, metres): parts beyond that bearing may lie out that far (base.ReachZone).
   PLACEMENT_SIDE_REACH = None
+  # The body's footprint parts keep clear of (base.ReachZone.body); None: an arm's pedestal
+  # lies well within PLACEMENT_INNER.
+  BODY_FOOTPRINT = None
 
   @property
   def reach_zone(self):
     """base.ReachZone: where the task may put parts for this arm (tasks/arm_placement.py)."""
     return base.ReachZone(self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH),
                           float(self.PLACEMENT_SECTOR), float(self.PLACEMENT_INNER),
-                          float(self.ROOT_DISTANCE), len(self._arms), self.PLACEMENT_SIDE_REACH)
+                          float(self.ROOT_DISTANCE), len(self._arms), self.PLACEMENT_SIDE_REACH,
+                          self.BODY_FOOTPRINT)

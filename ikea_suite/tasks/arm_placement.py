@@ -74,6 +74,8 @@ class ReachableParts(placement.PartInitializer):
       has parts on its own side to bring.
     side_reach: (bearing, metres): beyond that bearing from the heading, loose parts lie
       out to that distance instead of `reach`; None: `reach` at every bearing.
+    body: ((x, y) low, (x, y) high) of the robot body's footprint in the base frame, which
+      every part's footprint keeps `gap` clear of; None: none.
   Raises:
     OptionValueError: spread wider than the reach allows, or a root part wider than the support.
   """
@@ -81,8 +83,10 @@ class ReachableParts(placement.PartInitializer):
   def __init__(self, furniture, base_xy, base_rot, reach, min_distance, root_distance, sector,
                inner=0.2, gap=0.03, root_jitter=(0.03, np.radians(15)), max_attempts=200,
                spread=None, yaw_range=np.pi, preassembled=0, support=support_lib.FLOOR, arms=1,
-               side_reach=None):
+               side_reach=None, body=None):
     self._furniture = furniture
+    self._body = None if body is None else np.asarray(body, dtype=float)
+    self._base_rot = np.asarray(base_rot, dtype=float)
     self._arms, self._side_reach = arms, side_reach
     self._support = support
     self._base_xy = np.asarray(base_xy, dtype=float)
@@ -191,7 +195,8 @@ class ReachableParts(placement.PartInitializer):
     forward = np.array([np.cos(self._heading), np.sin(self._heading)])
     distance = self._root_out(radius)
     xy = self._base_xy + forward * distance + random_state.uniform(-offset, offset, 2)
-    while not self._support.contains(xy, radius):   # a wide root: out along the table
+    # A wide root moves out along the heading until it lies on the table, clear of the body.
+    while not self._support.contains(xy, radius) or not self._clear_of_body(xy, radius):
       distance += 0.02
       xy = self._base_xy + forward * distance
       if distance > self._support.farthest_from(self._base_xy):
@@ -222,6 +227,14 @@ class ReachableParts(placement.PartInitializer):
       self._place(physics, item, yaw_rot, xy)
       placed.append((xy, radius))
 
+  def _clear_of_body(self, xy, radius):
+    """Whether a footprint of `radius` about `xy` keeps `gap` clear of the robot's body."""
+    if self._body is None:
+      return True
+    local = self._base_rot[:2, :2].T @ (np.asarray(xy) - self._base_xy)
+    outside = np.maximum(np.maximum(self._body[0] - local, local - self._body[1]), 0.0)
+    return bool(np.linalg.norm(outside) >= radius + self._gap)
+
   def _sample_xy(self, random_state, radius, placed, reach=None, side=None):
     """A free xy for an item of `radius`, between the nearest distance allowed and `reach`
     (default the band's outer edge; given, it may leave a band only 1 cm wide); with
@@ -246,7 +259,8 @@ class ReachableParts(placement.PartInitializer):
           angle = self._heading + (turn if half is None else half * abs(turn))
           xy = self._base_xy + distance * np.array([np.cos(angle), np.sin(angle)])
           if (all(np.linalg.norm(xy - other) > radius + other_r + self._gap
-                  for other, other_r in placed) and self._support.contains(xy, radius)):
+                  for other, other_r in placed) and self._support.contains(xy, radius)
+              and self._clear_of_body(xy, radius)):
             return xy
       if self._side_reach and reach is None and not further:
         further = self._side_reach[1] - self._reach   # out at the sides, still within reach
@@ -283,4 +297,4 @@ def reachable_parts(furniture, reach_zone, spread=None, yaw_range=np.pi, preasse
                         reach_zone.min_distance, reach_zone.root_distance, reach_zone.sector,
                         spread=spread, yaw_range=float(yaw_range), preassembled=preassembled,
                         support=support, arms=reach_zone.arms,
-                        side_reach=reach_zone.side_reach)
+                        side_reach=reach_zone.side_reach, body=reach_zone.body)

@@ -128,10 +128,10 @@ def _shape(spec, index):
 def rests_in_rack(spec, rack_geoms, panels, lean):
   """How each panel standing in a rack at the origin starts: upright, or leaning.
 
-  Upright in the middle of its slot is a rest only where the panel also rises back
-  upright from leaning half as far as the slot lets it (`lean`), either way about the
-  slot's length (the rack's y axis): a tall thin panel balances upright in a simulation
-  whose rack is square to the axes, yet leans over in a scene. (Leaning the whole way,
+  Upright in the middle of its slot is a rest only where the panel rises back upright
+  from leaning half as far as the slot lets it (`lean`), either way about the slot's
+  length (the rack's y axis): a tall thin panel balances upright in a simulation whose
+  rack is square to the axes, yet leans over in a scene. (Leaning the whole way,
   it would start touching a fin, and a panel that would rise back stays wedged.) Where
   it does not rise back, it starts as it comes to rest leaning from there, towards +x or
   towards -x; a panel that stands in its slot turned half a turn takes the rest towards
@@ -161,25 +161,32 @@ def _rests_in_rack(path, key):
   boxes, panels, lean = key
   supports = _plane() + [ET.Element("geom", type="box", pos=_text(p), size=_text(s))
                          for p, s in boxes]
-  indices = [i for i, _, _ in panels]
   upright = [(np.frombuffer(r).reshape(3, 3), np.frombuffer(p)) for _, r, p in panels]
-  as_stood = _settle(spec, indices, upright, supports)
+  # Panels alike stand in slots alike (a slot is cut to its panel): one of each is
+  # simulated, and the others rest as it does, moved to their own slot.
+  first = {}
+  for k, (i, r, _) in enumerate(panels):
+    first.setdefault((_shape(spec, i), r), k)
+  simulated = sorted(set(first.values()))
   leaning = {}
   for sign in (1.0, -1.0):
-    tilted = [_leaning(spec.parts[i].bounds, *pose, sign * lean / 2)
-              for i, pose in zip(indices, upright)]
-    for k, settled in enumerate(_settle(spec, indices, tilted, supports)):
-      rot, pos = tilted[k] if settled is None else settled
+    tilted = [_leaning(spec.parts[panels[k][0]].bounds, *upright[k], sign * lean / 2)
+              for k in simulated]
+    settled = _settle(spec, [panels[k][0] for k in simulated], tilted, supports)
+    for k, start, found in zip(simulated, tilted, settled):
+      rot, pos = start if found is None else found
       if np.linalg.norm(geometry.mat_to_axis_angle(rot @ upright[k][0].T)) > REST_TURN:
-        leaning[k, sign] = Rest(rot, pos)
+        leaning[k, sign] = (rot, pos)
   out = []
-  for k, (rot, _) in enumerate(upright):
-    plus, minus = leaning.get((k, 1.0)), leaning.get((k, -1.0))
-    if plus is None and minus is None:   # upright, or where it went from upright
-      rest = Rest(rot) if as_stood[k] is None else Rest(*as_stood[k])
-      out.append((rest, rest))
+  for k, (i, r, _) in enumerate(panels):
+    like = first[(_shape(spec, i), r)]
+    shift = upright[k][1] - upright[like][1]
+    plus, minus = ((leaning[like, sign][0], leaning[like, sign][1] + shift)
+                   if (like, sign) in leaning else None for sign in (1.0, -1.0))
+    if plus is None and minus is None:   # it rises back upright either way
+      out.append((Rest(upright[k][0]), Rest(upright[k][0])))
     else:
-      out.append((plus or minus, minus or plus))
+      out.append((Rest(*(plus or minus)), Rest(*(minus or plus))))
   return tuple(out)
 
 
