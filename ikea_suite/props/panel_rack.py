@@ -22,10 +22,13 @@ from dm_control import mjcf
 PITCH = 0.11          # m between slot centres: 55 mm from a panel's middle to the next's
 SLOT_PLAY = 0.002     # m of free play across a slot (1 mm a side of the panel)
 # A round panel (a disc) stands on its rim: along its slot it is a wheel, and with nothing
-# to stop it a round table top rolled out of the rack. Two chocks either side of where
-# its rim meets the plate, CHOCK_ANGLE round the rim from there, cradle it.
+# to stop it a round table top rolled out of the rack. Two chocks cradle it, their faces
+# tangent to its rim CHOCK_ANGLE round from where it meets the plate, so that every
+# contact pushes towards its centre (between box edges and the rim, MuJoCo's contacts
+# did not, and a round top spun in place, 2 degrees a second).
 CHOCK_ANGLE = np.radians(20.0)
-CHOCK_LENGTH = 0.01   # m along the slot
+CHOCK_LENGTH = 0.01   # m along the rim
+CHOCK_DEPTH = 0.005   # m
 PLATE = 0.008         # m, thickness of the base plate the panels stand on
 FIN_THICKNESS = 0.005  # m
 MARGIN = 0.01         # m the plate reaches beyond the slots and fins
@@ -61,24 +64,30 @@ class PanelRack(composer.Entity):
     wood = self._mjcf_root.asset.add("material", name="rack_wood", rgba=(0.55, 0.42, 0.3, 1.0),
                                      specular=0.2, shininess=0.2)
     body = self._mjcf_root.worldbody
-    self._boxes = [((0.0, 0.0, PLATE / 2), (half_row, half_width, PLATE / 2))]
+    upright = (1.0, 0.0, 0.0, 0.0)
+    self._boxes = [((0.0, 0.0, PLATE / 2), (half_row, half_width, PLATE / 2), upright)]
     for k, (thickness, length, _) in enumerate(slots):
       for side in (-1, 1):
         x = self.slot_centre(k)[0] + side * (thickness + SLOT_PLAY + FIN_THICKNESS) / 2
         self._boxes.append(((x, 0.0, PLATE + fin_height / 2),
-                            (FIN_THICKNESS / 2, length / 2 + MARGIN / 2, fin_height / 2)))
+                            (FIN_THICKNESS / 2, length / 2 + MARGIN / 2, fin_height / 2),
+                            upright))
     names = ["plate"] + [f"fin_{k}_{side}" for k in range(self._num_slots) for side in "ab"]
     for k, ((thickness, _, height), disc) in enumerate(zip(slots, discs)):
-      if disc:   # the rim meets each chock's inner top edge
-        radius = height / 2
-        reach, rise = radius * np.sin(CHOCK_ANGLE), radius * (1 - np.cos(CHOCK_ANGLE))
-        for side in (-1, 1):
-          self._boxes.append(((self.slot_centre(k)[0], side * (reach + CHOCK_LENGTH / 2),
-                               PLATE + rise / 2),
-                              ((thickness + SLOT_PLAY) / 2, CHOCK_LENGTH / 2, rise / 2)))
-          names.append(f"chock_{k}_{'ab'[side > 0]}")
-    self._geoms = [body.add("geom", name=name, type="box", material=wood, pos=pos, size=size)
-                   for name, (pos, size) in zip(names, self._boxes)]
+      if not disc:
+        continue
+      radius, angle = height / 2, CHOCK_ANGLE
+      for side in (-1, 1):   # turned about x so that its top face is tangent to the rim
+        touch = np.array([self.slot_centre(k)[0], side * radius * np.sin(angle),
+                          PLATE + radius * (1 - np.cos(angle))])
+        inward = np.array([0.0, -side * np.sin(angle), np.cos(angle)])
+        self._boxes.append((tuple(touch - inward * CHOCK_DEPTH / 2),
+                            ((thickness + SLOT_PLAY) / 2, CHOCK_LENGTH / 2, CHOCK_DEPTH / 2),
+                            (np.cos(side * angle / 2), np.sin(side * angle / 2), 0.0, 0.0)))
+        names.append(f"chock_{k}_{'ab'[side > 0]}")
+    self._geoms = [body.add("geom", name=name, type="box", material=wood, pos=pos, size=size,
+                            quat=quat)
+                   for name, (pos, size, quat) in zip(names, self._boxes)]
 
   @property
   def mjcf_model(self):
@@ -106,8 +115,9 @@ class PanelRack(composer.Entity):
 
   @property
   def boxes(self):
-    """[(centre (3,), half sizes (3,))] of the plate, the fins and any chocks, m, rack frame."""
-    return [(np.array(pos), np.array(size)) for pos, size in self._boxes]
+    """[(centre (3,), half sizes (3,), quaternion (4,))] of the plate, the fins and any chocks,
+    m, rack frame."""
+    return [(np.array(pos), np.array(size), np.array(quat)) for pos, size, quat in self._boxes]
 
   @property
   def geoms(self):

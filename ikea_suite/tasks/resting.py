@@ -140,7 +140,8 @@ def rests_in_rack(spec, rack_geoms, panels, lean):
 
   Args:
     spec: the FurnitureSpec.
-    rack_geoms: [(position (3,), half sizes (3,))] of the rack's boxes, rack frame.
+    rack_geoms: [(position (3,), half sizes (3,), quaternion (4,))] of the rack's boxes,
+      rack frame.
     panels: [(part index, rotation (3, 3), position (3,))] where each panel is stood,
       upright in the middle of its slot, its lowest corner LANDING above the plate (rack
       frame; its thickness along x).
@@ -149,7 +150,7 @@ def rests_in_rack(spec, rack_geoms, panels, lean):
     Per panel, (Rest towards +x, Rest towards -x), rack frame: position None (both)
     where the panel stands upright as stood.
   """
-  key = (tuple((tuple(np.round(p, 12)), tuple(np.round(s, 12))) for p, s in rack_geoms),
+  key = (tuple(tuple(tuple(np.round(v, 12)) for v in box) for box in rack_geoms),
          tuple((int(i), np.asarray(r, dtype=float).tobytes(), np.asarray(p, dtype=float).tobytes())
                for i, r, p in panels), float(lean))
   return list(_rests_in_rack(spec.path, key))
@@ -159,8 +160,8 @@ def rests_in_rack(spec, rack_geoms, panels, lean):
 def _rests_in_rack(path, key):
   spec = model_format.load_spec(path)
   boxes, panels, lean = key
-  supports = _plane() + [ET.Element("geom", type="box", pos=_text(p), size=_text(s))
-                         for p, s in boxes]
+  supports = _plane() + [ET.Element("geom", type="box", pos=_text(p), size=_text(s),
+                                    quat=_text(q)) for p, s, q in boxes]
   upright = [(np.frombuffer(r).reshape(3, 3), np.frombuffer(p)) for _, r, p in panels]
   # Panels alike stand in slots alike (a slot is cut to its panel): one of each is
   # simulated, and the others rest as it does, moved to their own slot.
