@@ -23,13 +23,32 @@ RESET_ATTEMPTS = 10
 def check_action(action, spec, names, bounds=None):
   """Returns the action as a float array clipped to the spec; raises ActionError if malformed.
 
+  An action is an array (or a sequence) of real numbers, of float or integer dtype, with
+  the spec's shape and finite entries. Booleans (True is not a force), complex numbers
+  (numpy would drop the imaginary part), strings (numpy would parse "0.5") and other
+  objects are refused, not converted.
+
   `bounds`: (minimum, maximum) arrays of the spec, when the caller holds them (read
   from the spec's properties every step, they cost a control step more than the check).
   """
+  given_array = isinstance(action, np.ndarray)
   try:
-    array = np.asarray(action, dtype=np.float64)
-  except (TypeError, ValueError):
-    raise errors.ActionError(f"action must be numeric, got {type(action).__name__}") from None
+    array = action if given_array else np.asarray(action)
+  except (TypeError, ValueError):   # e.g. a ragged list
+    array = None
+  holds_bool = not given_array and _holds_bool(action)
+  if array is None or array.dtype.kind not in "fiu" or holds_bool:
+    if given_array:
+      what = f"an array of dtype {array.dtype}"
+    elif holds_bool:
+      what = f"a {type(action).__name__} holding a bool"
+    else:
+      what = f"a {type(action).__name__}" + (
+          f" of {array.dtype} values" if array is not None and array.ndim else "")
+    raise errors.ActionError(
+        f"action must be numeric: an array of real numbers (float or integer dtype), got "
+        f"{what}; booleans, complex numbers and strings are not actions")
+  array = array.astype(np.float64, copy=False)
   if array.shape != spec.shape:
     raise errors.ActionError(
         f"action has shape {array.shape}, expected {spec.shape}: ({', '.join(names)})")
@@ -43,6 +62,13 @@ def check_action(action, spec, names, bounds=None):
       raise errors.ActionError(f"action has non-finite entries: {entries}")
   low, high = bounds if bounds is not None else (spec.minimum, spec.maximum)
   return np.minimum(np.maximum(array, low), high)
+
+
+def _holds_bool(sequence):
+  """Whether a (flat) list or tuple given as an action holds a bool, which numpy would
+  turn into 0.0 or 1.0 beside the numbers."""
+  return isinstance(sequence, (list, tuple)) and any(
+      isinstance(v, (bool, np.bool_)) for v in sequence)
 
 
 def advance(physics, nstep, raw=None):
@@ -152,9 +178,12 @@ class Environment(composer.Environment):
     return self._checked_spec
 
   def step(self, action):
+    """Checks `action` (check_action), then steps; on a fresh environment or after the
+    last step of an episode the (checked) action is ignored and the environment resets,
+    as composer does."""
+    action = check_action(action, self.action_spec(), self._action_names, self._action_bounds)
     if self._reset_due:
       return self.reset()   # as composer's step does at an episode's end
-    action = check_action(action, self.action_spec(), self._action_names, self._action_bounds)
     internals = self._internals
     if internals is None:
       return self._composer_step(action)

@@ -1,4 +1,10 @@
-"""Shared test set-up: headless rendering before dm_control loads, and the one GL probe.
+"""Shared test set-up: headless rendering before dm_control loads, the one GL probe, and the
+property-based tests' settings profiles.
+
+Hypothesis profiles (tests/test_fuzz.py): "ci", the default, tries a few hundred examples
+in all, the same ones on every run (derandomized), so CI stays within its time and never
+flakes; `pytest tests/test_fuzz.py --hypothesis-profile=long` tries twenty times as many,
+new ones each run, for a long local search.
 
 A test that renders takes the `gl` fixture. It skips only when the probe
 cannot make an offscreen OpenGL context, with the probe's reason. The run
@@ -15,6 +21,17 @@ import os
 os.environ.setdefault("MUJOCO_GL", "egl")
 
 import pytest  # noqa: E402
+from hypothesis import HealthCheck  # noqa: E402
+from hypothesis import settings  # noqa: E402
+
+# Loading an environment takes 0.3-1 s: no per-example deadline, and no complaint that
+# generating data is slow next to it.
+_SLOW = [HealthCheck.too_slow, HealthCheck.data_too_large]
+settings.register_profile("ci", max_examples=100, deadline=None, derandomize=True,
+                          suppress_health_check=_SLOW, print_blob=True)
+settings.register_profile("long", max_examples=2000, deadline=None,
+                          suppress_health_check=_SLOW, print_blob=True)
+settings.load_profile("ci")
 
 _RENDERING = collections.Counter()
 

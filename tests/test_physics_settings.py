@@ -245,3 +245,23 @@ def test_light_plinths_under_a_heavy_carcass_barely_sink_into_the_floor(tmp_path
   floor_contacts = _floor_contacts(env.physics)
   assert floor_contacts
   assert max(-c.dist for c in floor_contacts) < 0.003
+
+
+@pytest.mark.parametrize("furniture,robot", [("table_four_leg_lack", "cursor"),
+                                             ("table_four_leg_lack", "sawyer")])
+def test_a_diverged_episode_resets_to_a_finite_state(furniture, robot, caplog):
+  env = ikea_suite.load(furniture, robot, seed=0)
+  env.reset()
+  zero = np.zeros(env.action_spec().shape)
+  part = env.task.furniture.parts[0]
+  part.set_velocity(env.physics, velocity=np.full(3, 1e12), angular_velocity=np.zeros(3))
+  assert env.step(zero).last() and "mjWARN_BADQ" in env.termination_reason
+  timestep = env.reset()
+  assert timestep.first() and env.termination_reason is None
+  data = env.physics.data
+  for name in ("qpos", "qvel", "qacc", "act", "ctrl", "xpos", "qfrc_applied", "xfrc_applied"):
+    assert np.isfinite(getattr(data, name)).all(), name
+  for _ in range(10):
+    timestep = env.step(zero)
+    assert all(np.isfinite(v).all() for v in timestep.observation.values())
+    assert timestep.mid() and env.termination_reason is None

@@ -36,6 +36,14 @@ def test_unknown_names_list_the_valid_ones(kwargs, kind, bad):
   assert all(name in message for name in valid)
 
 
+@pytest.mark.parametrize("kwargs, kind", [
+    ({"furniture": ["table_four_leg_lack"]}, "furniture"), ({"furniture": 5}, "furniture"),
+    ({"robot": ["cursor"]}, "robot"), ({"robot": None}, "robot")])
+def test_a_name_that_is_not_a_string_is_an_unknown_name(kwargs, kind):
+  with pytest.raises(ikea_suite.UnknownNameError, match=f"unknown {kind} .*; valid {kind} names"):
+    ikea_suite.load(**kwargs)
+
+
 def test_unknown_name_suggests_close_matches():
   with pytest.raises(ikea_suite.UnknownNameError, match="did you mean table_four_leg_lack"):
     ikea_suite.load("table_four_leg_lak")
@@ -51,12 +59,43 @@ def env():
     (np.zeros((15, 1)), r"shape \(15, 1\)"),
     (np.r_[np.zeros(14), np.nan], "non-finite entries: connect=nan"),
     (np.r_[np.inf, np.zeros(14)], "cursor0_move_x=inf"),
-    ("go left", "must be numeric"),
+    ("go left", "must be numeric.*got a str"),
+    (np.array(["0.5"] * 15), "must be numeric.*dtype <U3"),
+    (["0.5"] * 15, "must be numeric.*got a list of <U3 values"),
+    (np.full(15, 0.5 + 1e-3j), "must be numeric.*dtype complex128"),
+    (np.zeros(15, dtype=bool), "must be numeric.*dtype bool"),
+    ([True] + [0.0] * 14, "must be numeric.*got a list holding a bool"),
+    (np.zeros(15, dtype=object), "must be numeric.*dtype object"),
+    ([[0.0], [0.0, 1.0]], "must be numeric.*got a list"),
+    (None, "must be numeric.*got a NoneType"),
 ])
 def test_bad_actions_raise_action_error(env, action, message):
   env.reset()
   with pytest.raises(ikea_suite.ActionError, match=message):
     env.step(action)
+
+
+@pytest.mark.parametrize("action", [np.zeros(15, dtype=np.float32), np.zeros(15, dtype=np.int64),
+                                    [0.0] * 15, [0] * 15, tuple(np.zeros(15))])
+def test_real_number_actions_of_any_float_or_integer_dtype_are_accepted(env, action):
+  env.reset()
+  assert env.step(action).mid()
+
+
+def test_actions_are_checked_on_a_fresh_environment_and_after_the_last_step():
+  """composer resets instead of stepping there; the action is checked all the same."""
+  fresh = ikea_suite.load(seed=0, time_limit=0.1)
+  nan = np.full(15, np.nan)
+  with pytest.raises(ikea_suite.ActionError, match="non-finite"):
+    fresh.step(nan)
+  assert fresh.step(np.zeros(15)).first()
+  while not fresh.step(np.zeros(15)).last():
+    pass
+  with pytest.raises(ikea_suite.ActionError, match="non-finite"):
+    fresh.step(nan)
+  with pytest.raises(ikea_suite.ActionError, match="shape"):
+    fresh.step(np.zeros(3))
+  assert fresh.step(np.zeros(15)).first()
 
 
 def test_huge_finite_actions_are_clipped_not_refused(env):

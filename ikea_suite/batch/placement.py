@@ -1,7 +1,7 @@
 """Randomized start per world: every part flat on the floor, random yaw, scattered in a ring.
 
 The batched form of `tasks/placement.ScatteredParts` (preassembled = 0): the
-same resting rotations, ring (inner radius = assembled radius + clearance,
+same resting poses (tasks/resting.py), ring (inner radius = assembled radius + clearance,
 width `spread`), gap and yaw range, parts placed largest first without
 overlap. The CPU draws candidates until one fits and widens the ring by a
 part width every 100 draws; here each part draws CANDIDATES at once, in
@@ -19,6 +19,7 @@ import numpy as np
 from ikea_suite import geometry
 from ikea_suite.batch import rigid
 from ikea_suite.tasks import placement as cpu_placement
+from ikea_suite.tasks import resting
 
 BLOCK = 32
 CANDIDATES = 4 * BLOCK
@@ -28,6 +29,7 @@ class Scatter(typing.NamedTuple):
   """Per-furniture constants of the placement, parts in placement order."""
   order: tuple              # part indices, largest extent first
   rest_rot: np.ndarray      # (p, 3, 3) resting rotation of each part (placement order)
+  rest_height: np.ndarray   # (p,) m, height of a part that starts at rest; NaN: it lands
   corners: np.ndarray       # (p, 8, 3) collision-bound corners in each part frame
   inner: float              # m, ring's inner radius
   spread: float
@@ -39,11 +41,15 @@ def scatter(spec, spread, yaw_range):
   """Scatter constants for a FurnitureSpec: ring width `spread` (m) and largest |yaw|
   `yaw_range` (rad), the options of a resolved config.TaskConfig; clearance and gap as
   tasks/placement.ScatteredParts has them."""
-  rest = [cpu_placement.resting_rotation(p.bounds) for p in spec.parts]
+  rests = cpu_placement.lying_rests(spec)
+  rest = [rests[i].rotation for i in range(len(spec.parts))]
+  height = [np.nan if rests[i].position is None else rests[i].position[2]
+            for i in range(len(spec.parts))]
   corners = [geometry.box_corners(*p.bounds) for p in spec.parts]
   extent = [np.ptp(c @ r.T, axis=0).max() for c, r in zip(corners, rest)]
   order = tuple(int(i) for i in np.argsort(-np.array(extent), kind="stable"))
-  return Scatter(order, np.array([rest[i] for i in order]), np.array([corners[i] for i in order]),
+  return Scatter(order, np.array([rest[i] for i in order]), np.array([height[i] for i in order]),
+                 np.array([corners[i] for i in order]),
                  cpu_placement.assembled_radius(spec) + cpu_placement.CLEARANCE, spread,
                  cpu_placement.GAP, yaw_range)
 
@@ -84,6 +90,10 @@ def place(scatter_constants, rng):
     pick = jnp.where(free.any(), jnp.argmax(free), jnp.argmax(worst))
     centres = centres.at[n].set(xy[pick])
     radii = radii.at[n].set(radius)
-    shift = jnp.concatenate([xy[pick] - centre, -corners[:, 2].min(keepdims=True) + 1e-3])
+    if np.isnan(sc.rest_height[n]):   # lands from just above the floor
+      lift = -corners[:, 2].min(keepdims=True) + resting.LANDING
+    else:
+      lift = jnp.full(1, sc.rest_height[n])
+    shift = jnp.concatenate([xy[pick] - centre, lift])
     positions[part], rotations[part] = shift, rot
   return jnp.stack(positions), jnp.stack(rotations)

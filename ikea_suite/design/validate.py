@@ -3,7 +3,8 @@
 For each model file:
   format      it loads in plain MuJoCo and passes the furniture-format loader,
               which also requires every connector to have a compatible mate
-              that coincides with it in the assembled pose;
+              that coincides with it in the assembled pose, and dm_control builds
+              its parts as load() does (model_format.check_buildable);
   graph       the parts form one connected assembly graph;
   overlap     no two parts interpenetrate in the assembled pose by more than
               `PENETRATION_TOL`;
@@ -63,6 +64,7 @@ def check(path):
   name = str(path).rsplit("/", 1)[-1].removesuffix(".xml")
   try:
     spec = model_format.load_spec(str(path))
+    model_format.check_buildable(spec)
   except errors.ModelFormatError as e:
     return Report(name, [f"format: {e}"])
   problems = []

@@ -7,8 +7,10 @@ collides through convex pieces of a decomposed mesh.
 
 A user adds a directory of model files with `register_models(directory)`;
 its models join the catalog under their file stems. A file that fails the
-format loader, or whose name is already taken, affects only itself: it is
-left out of the catalog and listed by `invalid_models()` with the reason.
+format loader or dm_control's build of its parts (model_format.check_buildable),
+or whose name is already taken, affects only itself: it is left out of the
+catalog and listed by `invalid_models()` with the reason. (The bundled models
+pass both by construction, pinned by tests, so only their format is read here.)
 
 `spec(name, scale)` hands out the FurnitureSpec the scan read (scaled in
 memory where asked): load() builds a furniture from it without reading the
@@ -61,6 +63,13 @@ class InvalidModel:
 _registered = []   # user directories, in the order they were registered
 
 
+def _read_checked(path):
+  """The spec of a user's model file, checked as load() will build it."""
+  spec = model_format.load_spec(str(path))
+  model_format.check_buildable(spec)
+  return spec
+
+
 def _entry(path, spec):
   meta = spec.metadata
   category = meta.get("category", "uncategorized")
@@ -78,12 +87,13 @@ def _scan():
   every registered directory."""
   valid, invalid, specs = {}, [], {}
   for directory in [paths.furniture_dir(), *_registered]:
+    read = _read_checked if directory != paths.furniture_dir() else model_format.load_spec
     for path in sorted(directory.glob("*.xml")):
       try:
         if path.stem in valid:
           raise errors.ModelFormatError(path, "<file>", f"the name {path.stem!r} is already "
                                         f"taken by {valid[path.stem].path}")
-        specs[path.stem] = model_format.load_spec(str(path))
+        specs[path.stem] = read(path)
         valid[path.stem] = _entry(path, specs[path.stem])
       except errors.ModelFormatError as e:
         invalid.append(InvalidModel(path.stem, str(path), e))
@@ -120,9 +130,19 @@ def register_models(directory: str | os.PathLike) -> list[str]:
   directory = pathlib.Path(directory).expanduser().resolve()
   if not directory.is_dir():
     raise errors.ModelFormatError(directory, "<directory>", "no such directory to register")
-  if directory not in _registered:
+  added = directory not in _registered
+  if added:
     _registered.append(directory)
   _scan.cache_clear()   # files may have changed since they were read
+  try:
+    entries()
+  except Exception:
+    # Reading files cannot fail outside ModelFormatError (load_spec); should the directory
+    # itself be unreadable, the catalog is left as it was.
+    if added:
+      _registered.remove(directory)
+    _scan.cache_clear()
+    raise
   return sorted(name for name, e in entries().items() if pathlib.Path(e.path).parent == directory)
 
 
@@ -227,7 +247,7 @@ def spec(name: str | os.PathLike, scale: float = 1.0) -> furniture_spec.Furnitur
     OptionValueError: a scale out of range.
   """
   if _looks_like_path(name):
-    found = model_format.load_spec(str(pathlib.Path(name).expanduser()))
+    found = _read_checked(pathlib.Path(name).expanduser())
   else:
     found = _scan()[2][_entry_of(name).name]
   return scaling.scaled(found, scale)
@@ -235,7 +255,7 @@ def spec(name: str | os.PathLike, scale: float = 1.0) -> furniture_spec.Furnitur
 
 def _entry_of(name):
   """The Entry of a catalog name; raises as path_of does for a name that is not one."""
-  if name in entries():
+  if isinstance(name, str) and name in entries():   # a list is no name (nor hashable)
     return entries()[name]
   broken = [m for m in _scan()[1] if m.name == name]
   if broken:

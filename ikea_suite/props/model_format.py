@@ -13,15 +13,28 @@ with its asset folders made absolute, so it compiles from memory anywhere) and
 the document into a FurnitureSpec (spec_from_document), which carries the
 document along: the scaled furniture (props/scaling.py) and the sequencer's
 collision scene (compile_model) are made from it, never from the file again.
+
+Reading a file can fail in many ways (an unknown encoding, XML that is not well formed,
+MuJoCo refusing to compile it, sizes no scene can take): load_spec turns every one of
+them into a ModelFormatError naming the file, so a broken file only ever affects itself.
+check_buildable checks the rest of what load() will need: the parts as the furniture
+prop builds them (`part_xml`) parse, compile and attach in dm_control. The catalog runs
+both on every file of a registered directory and on a file loaded by path; the bundled
+models are built by the project, and a test runs both on each of them
+(design/validate.py), so the catalog does not pay dm_control's parse for them on every
+start.
 """
 
+import copy
 import math
 import os
 import pathlib
+import re
 import xml.etree.ElementTree as ET
 
 import mujoco
 import numpy as np
+from dm_control import mjcf
 
 from ikea_suite import errors
 from ikea_suite import geometry
@@ -32,6 +45,16 @@ CONNECTOR_PREFIX = "connector:"
 FURNITURE_TEXT = "furniture"
 MAX_PARTS = 30          # one collision bit per assembled group, bits 1..30
 _UNIT_TOL = 1e-4        # how far a written quaternion may be from unit length
+# The largest assembled furniture, metres along any axis. The largest catalog model is a
+# 2.02 m bookcase; the floor arena is 8 m across and the `scale` option doubles sizes at
+# most; and the assembly planner samples exit paths every few centimetres along the
+# furniture, so a model kilometres across would take minutes to load.
+MAX_EXTENT = 4.0
+# The heaviest part, kg per cubic metre of its collision box: a solid block of tungsten
+# (19,300) fills its box; steel is 7,850 and the catalog's densest part 1,341. A part
+# heavier than that is a typo in mass or size, and its contacts diverge on the first step.
+MAX_DENSITY = 20_000.0
+_PART_SKIPPED_TAGS = ("freejoint", "joint", "inertial")   # the arena adds the joint; see part_xml
 
 
 def parse_key_values(text, path, element):
@@ -73,9 +96,12 @@ def _parse_twists(text, path, label):
   if not text:
     return ()
   try:
-    degrees = sorted({float(t) % 360.0 for t in text.replace(",", " ").split()})
+    values = [float(t) for t in text.replace(",", " ").split()]
   except ValueError:
-    raise errors.ModelFormatError(path, label, f"twists={text!r} must be angles in degrees") from None
+    values = None
+  if not values or not all(math.isfinite(v) for v in values):
+    raise errors.ModelFormatError(path, label, f"twists={text!r} must be angles in degrees")
+  degrees = sorted({v % 360.0 for v in values})
   return tuple(math.radians(d) for d in degrees)
 
 
@@ -89,6 +115,126 @@ def _compile(document, path):
     return mujoco.MjModel.from_xml_string(to_xml(document))
   except ValueError as e:
     raise errors.ModelFormatError(path, "<mujoco>", f"plain MuJoCo cannot load it: {e}") from None
+
+
+def _referenced_assets(body, assets):
+  """The <asset> children a part's geoms and sites use (materials, meshes, height fields
+  and the materials' textures)."""
+  wanted = {e.get(attr) for e in body.iter() for attr in ("material", "mesh", "hfield")} - {None}
+  chosen = [a for a in assets if a.get("name") in wanted]
+  textures = {a.get("texture") for a in chosen} - {None}
+  return [a for a in assets if a.get("name") in textures] + chosen
+
+
+def part_xml(part, spec):
+  """The MJCF of one part as the furniture prop builds it (props/part.py).
+
+  The part body's children in the part frame, without its joint and inertial (the arena
+  gives each part a free joint; the furniture puts the file's inertial on it), the assets
+  it uses, and the file's compiler settings but its angle unit (quats only).
+
+  Args:
+    part: a PartSpec of `spec`.
+    spec: the FurnitureSpec it belongs to.
+  Returns:
+    The <mujoco> element (a new tree; the spec is not changed).
+  """
+  root = ET.Element("mujoco", model=part.name)
+  compiler = dict(spec.compiler)
+  compiler.pop("angle", None)
+  if compiler:
+    ET.SubElement(root, "compiler", compiler)
+  asset = ET.SubElement(root, "asset")
+  for element in _referenced_assets(part.element, spec.assets):
+    asset.append(copy.deepcopy(element))
+  world = ET.SubElement(root, "worldbody")
+  for child in part.element:
+    if child.tag not in _PART_SKIPPED_TAGS:
+      world.append(copy.deepcopy(child))
+  return root
+
+
+def parts_xml(spec):
+  """One MJCF model of every part as load() builds it: each part's `part_xml` in a body
+  named after the part, with the free joint the arena gives it and the inertial the
+  furniture puts on it, all at the origin; the assets they use, once each.
+
+  Args:
+    spec: a FurnitureSpec.
+  Returns:
+    The <mujoco> element, named as the furniture prop is (a new tree).
+  """
+  root = ET.Element("mujoco", model=spec.name)
+  compiler = dict(spec.compiler)
+  compiler.pop("angle", None)
+  if compiler:
+    ET.SubElement(root, "compiler", compiler)
+  assets = ET.SubElement(root, "asset")
+  world = ET.SubElement(root, "worldbody")
+  asset_names = set()
+  for part in spec.parts:
+    own = part_xml(part, spec)
+    for element in own.find("asset"):
+      if element.get("name") not in asset_names:
+        asset_names.add(element.get("name"))
+        assets.append(element)
+    body = ET.SubElement(world, "body", name=part.name)
+    ET.SubElement(body, "freejoint")
+    inertial = part.element.find("inertial")
+    if inertial is not None:
+      ET.SubElement(body, "inertial", dict(inertial.attrib))
+    body.extend(own.find("worldbody"))
+  return root
+
+
+def check_buildable(spec: furniture_spec.FurnitureSpec) -> None:
+  """Raises ModelFormatError where dm_control would refuse the parts load() builds.
+
+  The parts as load() builds them (`parts_xml`) are parsed by dm_control (identifiers
+  may not contain '/', its schema and attribute types, the asset files read), compiled
+  (default classes, references) and attached to a scene (the namescope rules for the
+  furniture's name). Names are unique across the file (MuJoCo requires it), so one
+  model refuses nothing that the parts' own namescopes would take.
+
+  Args:
+    spec: a FurnitureSpec from load_spec.
+  Raises:
+    ModelFormatError: naming the file and dm_control's or MuJoCo's complaint.
+  """
+  path = spec.path
+  root = parts_xml(spec)
+  try:
+    model = mjcf.from_xml_string(ET.tostring(root, encoding="unicode"),
+                                 model_dir=str(pathlib.Path(path).parent))
+    # What mjcf.Physics.from_mjcf_model compiles, without building its named indexers.
+    mujoco.MjModel.from_xml_string(model.to_xml_string(), model.get_assets())
+    mjcf.RootElement().attach(model)   # as the arena attaches the furniture prop
+  except Exception as e:   # pylint: disable=broad-except  (dm_control raises several kinds)
+    # dm_control's "Line N" counts lines of the XML written here, not of the file.
+    message = re.sub(r"^Line \d+: ", "", " ".join(line.strip() for line in str(e).splitlines()[:2]))
+    raise errors.ModelFormatError(
+        path, "<worldbody>", f"dm_control cannot build its parts: {message}") from None
+
+
+def _check_sizes(parts, path):
+  """Finite collision geometry, the assembled furniture within MAX_EXTENT, and no part
+  denser than MAX_DENSITY."""
+  for part in parts:
+    label = f"<body name={part.name!r}>"
+    if not np.all(np.isfinite(part.bounds)):
+      raise errors.ModelFormatError(path, label, "collision geometry is not finite")
+    size = part.bounds[1] - part.bounds[0]
+    density = part.mass / max(float(np.prod(size)), np.finfo(float).tiny)
+    if density > MAX_DENSITY:
+      raise errors.ModelFormatError(
+          path, label, f"{part.mass:.4g} kg in a collision box of {' x '.join(f'{v:.4g}' for v in size)} m "
+          f"is {density:.4g} kg/m^3; at most {MAX_DENSITY:g} (solid tungsten) is supported")
+  corners = np.concatenate([p.assembled_corners() for p in parts])
+  extent = corners.max(0) - corners.min(0)
+  if not np.all(extent <= MAX_EXTENT):
+    raise errors.ModelFormatError(
+        path, "<worldbody>", f"the assembled furniture is {' x '.join(f'{v:.4g}' for v in extent)} m "
+        f"(x y z, collision geoms); at most {MAX_EXTENT:g} m along each axis is supported")
 
 
 def compile_model(spec: furniture_spec.FurnitureSpec) -> mujoco.MjModel:
@@ -274,6 +420,10 @@ def read_document(path: str | os.PathLike) -> ET.Element:
     root = ET.parse(path).getroot()
   except ET.ParseError as e:
     raise errors.ModelFormatError(path, "<file>", f"not well-formed XML: {e}") from None
+  except (LookupError, UnicodeError, ValueError) as e:   # an unknown or wrong encoding
+    raise errors.ModelFormatError(path, "<file>", f"cannot be decoded: {e}") from None
+  except OSError as e:
+    raise errors.ModelFormatError(path, "<file>", f"cannot be read: {e.strerror or e}") from None
   if root.tag != "mujoco":
     raise errors.ModelFormatError(path, f"<{root.tag}>", "root element must be <mujoco>")
   _anchor_folders(root, path.parent)
@@ -298,6 +448,7 @@ def spec_from_document(root: ET.Element, path: str | os.PathLike,
   model = _compile(root, path)
   texts = _read_texts(root, path)
   parts = _read_parts(root, model, path)
+  _check_sizes(parts, path)
   connectors = _read_connectors(parts, texts, path)
   _check_mates(parts, connectors, path)
   compiler = root.find("compiler")
@@ -320,6 +471,16 @@ def load_spec(path: str | os.PathLike) -> furniture_spec.FurnitureSpec:
   Returns:
     The FurnitureSpec.
   Raises:
-    ModelFormatError: on any fault, naming the file and the element.
+    ModelFormatError: on any fault, whatever went wrong reading the file, naming the file
+      and the element (an unexpected error is reported with its type, so that one file
+      cannot break a caller that reads many, such as the catalog).
   """
-  return spec_from_document(read_document(path), path)
+  try:
+    return spec_from_document(read_document(path), path)
+  except errors.ModelFormatError:
+    raise
+  except RecursionError:
+    raise errors.ModelFormatError(path, "<file>", "elements nested too deeply to read") from None
+  except Exception as e:   # pylint: disable=broad-except  (see Raises)
+    raise errors.ModelFormatError(
+        path, "<file>", f"cannot be read ({type(e).__name__}: {e})") from None

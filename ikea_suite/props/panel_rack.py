@@ -21,6 +21,14 @@ from dm_control import mjcf
 
 PITCH = 0.11          # m between slot centres: 55 mm from a panel's middle to the next's
 SLOT_PLAY = 0.002     # m of free play across a slot (1 mm a side of the panel)
+# A round panel (a disc) stands on its rim: along its slot it is a wheel, and with nothing
+# to stop it a round table top rolled out of the rack. Two chocks cradle it, their faces
+# tangent to its rim CHOCK_ANGLE round from where it meets the plate, so that every
+# contact pushes towards its centre (between box edges and the rim, MuJoCo's contacts
+# did not, and a round top spun in place, 2 degrees a second).
+CHOCK_ANGLE = np.radians(20.0)
+CHOCK_LENGTH = 0.01   # m along the rim
+CHOCK_DEPTH = 0.005   # m
 PLATE = 0.008         # m, thickness of the base plate the panels stand on
 FIN_THICKNESS = 0.005  # m
 MARGIN = 0.01         # m the plate reaches beyond the slots and fins
@@ -38,30 +46,48 @@ class PanelRack(composer.Entity):
 
   Args (to _build):
     slots: (thickness, length, height) of each panel, m, in slot order.
+    discs: whether each panel is round (a disc: its slot gets chocks); default none.
     name: the model name.
   """
 
-  def _build(self, slots, name="panel_rack"):
+  def _build(self, slots, discs=None, name="panel_rack"):
     slots = np.asarray(slots, dtype=float).reshape(-1, 3)
+    discs = [False] * len(slots) if discs is None else list(discs)
     self._mjcf_root = mjcf.RootElement(model=name)
     self._num_slots = len(slots)
     shortest = slots[:, 2].min()
     fin_height = min(MAX_FIN_HEIGHT, FIN_HEIGHT_FRACTION * shortest, shortest - FINGER_ROOM)
+    self._fin_height = fin_height
     half_row = (self._num_slots - 1) * PITCH / 2 + PITCH / 2
     half_width = slots[:, 1].max() / 2 + MARGIN
     self._half_size = np.array([half_row, half_width])
     wood = self._mjcf_root.asset.add("material", name="rack_wood", rgba=(0.55, 0.42, 0.3, 1.0),
                                      specular=0.2, shininess=0.2)
     body = self._mjcf_root.worldbody
-    self._geoms = [body.add("geom", name="plate", type="box", material=wood,
-                            pos=(0.0, 0.0, PLATE / 2), size=(half_row, half_width, PLATE / 2))]
+    upright = (1.0, 0.0, 0.0, 0.0)
+    self._boxes = [((0.0, 0.0, PLATE / 2), (half_row, half_width, PLATE / 2), upright)]
     for k, (thickness, length, _) in enumerate(slots):
       for side in (-1, 1):
         x = self.slot_centre(k)[0] + side * (thickness + SLOT_PLAY + FIN_THICKNESS) / 2
-        self._geoms.append(body.add(
-            "geom", name=f"fin_{k}_{'ab'[side > 0]}", type="box", material=wood,
-            pos=(x, 0.0, PLATE + fin_height / 2),
-            size=(FIN_THICKNESS / 2, length / 2 + MARGIN / 2, fin_height / 2)))
+        self._boxes.append(((x, 0.0, PLATE + fin_height / 2),
+                            (FIN_THICKNESS / 2, length / 2 + MARGIN / 2, fin_height / 2),
+                            upright))
+    names = ["plate"] + [f"fin_{k}_{side}" for k in range(self._num_slots) for side in "ab"]
+    for k, ((thickness, _, height), disc) in enumerate(zip(slots, discs)):
+      if not disc:
+        continue
+      radius, angle = height / 2, CHOCK_ANGLE
+      for side in (-1, 1):   # turned about x so that its top face is tangent to the rim
+        touch = np.array([self.slot_centre(k)[0], side * radius * np.sin(angle),
+                          PLATE + radius * (1 - np.cos(angle))])
+        inward = np.array([0.0, -side * np.sin(angle), np.cos(angle)])
+        self._boxes.append((tuple(touch - inward * CHOCK_DEPTH / 2),
+                            ((thickness + SLOT_PLAY) / 2, CHOCK_LENGTH / 2, CHOCK_DEPTH / 2),
+                            (np.cos(side * angle / 2), np.sin(side * angle / 2), 0.0, 0.0)))
+        names.append(f"chock_{k}_{'ab'[side > 0]}")
+    self._geoms = [body.add("geom", name=name, type="box", material=wood, pos=pos, size=size,
+                            quat=quat)
+                   for name, (pos, size, quat) in zip(names, self._boxes)]
 
   @property
   def mjcf_model(self):
@@ -77,8 +103,25 @@ class PanelRack(composer.Entity):
     return self._half_size.copy()
 
   @property
+  def fin_height(self):
+    """Height (m) of the fins above the plate."""
+    return self._fin_height
+
+  @property
+  def lean(self):
+    """The most (rad) a panel standing in the middle of its slot leans before it meets a
+    fin's top edge: the play either side of it over the fins' height."""
+    return float(np.arctan2(SLOT_PLAY / 2, self._fin_height))
+
+  @property
+  def boxes(self):
+    """[(centre (3,), half sizes (3,), quaternion (4,))] of the plate, the fins and any chocks,
+    m, rack frame."""
+    return [(np.array(pos), np.array(size), np.array(quat)) for pos, size, quat in self._boxes]
+
+  @property
   def geoms(self):
-    """The plate and the fins: the rack's collision geoms, on which panels stand."""
+    """The plate, the fins and any chocks: the rack's collision geoms, on which panels stand."""
     return list(self._geoms)
 
   def slot_centre(self, k):

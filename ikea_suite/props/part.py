@@ -7,42 +7,21 @@ attaches the part to (`Furniture.attach_to`). Without that the body would get
 geom-derived inertia at MuJoCo's default density instead.
 """
 
-import copy
 import pathlib
 import xml.etree.ElementTree as ET
 
 from dm_control import composer
 from dm_control import mjcf
 
-_SKIPPED_TAGS = ("freejoint", "joint", "inertial")   # the arena adds the joint; see inertial
-
-
-def _referenced_assets(body, assets):
-  """The <asset> children a part's geoms use (materials, meshes and their textures)."""
-  wanted = {g.get(attr) for g in body.iter("geom") for attr in ("material", "mesh")} - {None}
-  chosen = [a for a in assets if a.get("name") in wanted]
-  textures = {a.get("texture") for a in chosen} - {None}
-  return [a for a in assets if a.get("name") in textures] + chosen
+from ikea_suite.props import model_format
 
 
 class Part(composer.Entity):
   """A part's geoms and connector sites in the part frame; the free joint comes from the arena."""
 
   def _build(self, spec, furniture_spec):
-    root = ET.Element("mujoco", model=spec.name)
-    compiler = dict(furniture_spec.compiler)
-    compiler.pop("angle", None)
-    if compiler:
-      ET.SubElement(root, "compiler", compiler)
-    asset = ET.SubElement(root, "asset")
-    for element in _referenced_assets(spec.element, furniture_spec.assets):
-      asset.append(copy.deepcopy(element))
-    world = ET.SubElement(root, "worldbody")
-    for child in spec.element:
-      if child.tag not in _SKIPPED_TAGS:
-        world.append(copy.deepcopy(child))
     self._mjcf_root = mjcf.from_xml_string(
-        ET.tostring(root, encoding="unicode"),
+        ET.tostring(model_format.part_xml(spec, furniture_spec), encoding="unicode"),
         model_dir=str(pathlib.Path(furniture_spec.path).parent))
     self._spec = spec
     inertial = spec.element.find("inertial")

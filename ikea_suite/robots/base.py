@@ -19,6 +19,9 @@ class ReachZone(NamedTuple):
   # (bearing, metres): beyond that bearing from the heading parts may lie out to that
   # distance instead of `reach`; None: `reach` at every bearing.
   side_reach: tuple = None
+  # ((x, y) low, (x, y) high) corners (m) of the robot body's footprint in the base frame,
+  # which parts keep clear of (a torso wider than min_distance leaves room for); None: none.
+  body: tuple = None
 
 
 class Robot(composer.Entity, abc.ABC):

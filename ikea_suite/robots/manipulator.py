@@ -73,6 +73,9 @@ class Manipulator(base.Robot):
   PLACEMENT_SECTOR = np.radians(110)
   # (bearing, metres): parts beyond that bearing may lie out that far (base.ReachZone).
   PLACEMENT_SIDE_REACH = None
+  # The body's footprint parts keep clear of (base.ReachZone.body); None: an arm's pedestal
+  # lies well within PLACEMENT_INNER.
+  BODY_FOOTPRINT = None
   KP_PER_NM = 10.0               # position gain per N m of torque limit
   VELOCITY_LIMIT = 2.0           # rad/s per joint in the IK
   # {arm joint index: (low, high) rad} the task-space IK keeps within, inside the physical
@@ -218,7 +221,8 @@ class Manipulator(base.Robot):
     """base.ReachZone: where the task may put parts for this arm (tasks/arm_placement.py)."""
     return base.ReachZone(self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH),
                           float(self.PLACEMENT_SECTOR), float(self.PLACEMENT_INNER),
-                          float(self.ROOT_DISTANCE), len(self._arms), self.PLACEMENT_SIDE_REACH)
+                          float(self.ROOT_DISTANCE), len(self._arms), self.PLACEMENT_SIDE_REACH,
+                          self.BODY_FOOTPRINT)
 
   def mount(self, arena):
     frame = arena.attach(self)

@@ -28,6 +28,7 @@ from ikea_suite.arenas import support as support_lib
 from ikea_suite.tasks import panel_placement
 from ikea_suite.tasks import placement
 from ikea_suite.tasks import planner
+from ikea_suite.tasks import resting
 
 # A root whose farthest connector would lie beyond ROOT_FAR of the arm's reach, lying
 # along the radius from the base, lies across it if that brings the farthest connector
@@ -73,15 +74,19 @@ class ReachableParts(placement.PartInitializer):
       has parts on its own side to bring.
     side_reach: (bearing, metres): beyond that bearing from the heading, loose parts lie
       out to that distance instead of `reach`; None: `reach` at every bearing.
+    body: ((x, y) low, (x, y) high) of the robot body's footprint in the base frame, which
+      every part's footprint keeps `gap` clear of; None: none.
   Raises:
     OptionValueError: spread wider than the reach allows, or a root part wider than the support.
   """
 
   def __init__(self, furniture, base_xy, base_rot, reach, min_distance, root_distance, sector,
                spread, yaw_range, preassembled, support=support_lib.FLOOR, arms=1,
-               side_reach=None, inner=0.2, gap=0.03, root_jitter=(0.03, np.radians(15)),
-               max_attempts=200):
+               side_reach=None, body=None, inner=0.2, gap=0.03,
+               root_jitter=(0.03, np.radians(15)), max_attempts=200):
     self._furniture = furniture
+    self._body = None if body is None else np.asarray(body, dtype=float)
+    self._base_rot = np.asarray(base_rot, dtype=float)
     self._arms, self._side_reach = arms, side_reach
     self._support = support
     self._base_xy = np.asarray(base_xy, dtype=float)
@@ -116,6 +121,9 @@ class ReachableParts(placement.PartInitializer):
           f"across) does not fit on the work table ({2 * min(support.half_size):.2f} m); "
           f"use a smaller scale")
     self._racked = panel_placement.RackedPanels(spec, self._root, self._root_rest)
+    # Where the parts start: lying parts as ScatteredParts lays them, the root as it lies here.
+    self._rests = dict(self._groups.rests)
+    self._rests.update(resting.rests_on_support(spec, {self._root: self._root_rest}))
 
   def _across_if_far(self, table, rest, reach):
     """The root's resting rotation `rest`, turned a quarter turn about the vertical when,
@@ -168,7 +176,8 @@ class ReachableParts(placement.PartInitializer):
 
   def _place(self, physics, item, yaw_rot, xy):
     corners, centre, _ = self._item_footprint(item, yaw_rot)
-    shift = np.array([*(xy - centre), self._support.height - corners[:, 2].min() + 1e-3])
+    shift = np.array([*(xy - centre),
+                      placement.lift(item, corners, self._rests, self._support.height)])
     for index, rot, pos in item:
       part = self._furniture.parts[index]
       part.set_pose(physics, position=yaw_rot @ pos + shift,
@@ -179,14 +188,15 @@ class ReachableParts(placement.PartInitializer):
     items = self._groups.draw_items(random_state)   # single parts lie flat; joined groups upright
     root_item = next(item for item in items if any(i == self._root for i, _, _ in item))
     if len(root_item) == 1:   # the root alone: turned over when its mates attach from below
-      root_item = [(self._root, self._root_rest, np.zeros(3))]
+      root_item = [(self._root, self._rests[self._root].rotation, np.zeros(3))]
     offset, yaw_jitter = self._root_jitter
     yaw_rot = geometry.rot_z(self._heading + random_state.uniform(-yaw_jitter, yaw_jitter))
     _, _, radius = self._item_footprint(root_item, yaw_rot)
     forward = np.array([np.cos(self._heading), np.sin(self._heading)])
     distance = self._root_out(radius)
     xy = self._base_xy + forward * distance + random_state.uniform(-offset, offset, 2)
-    while not self._support.contains(xy, radius):   # a wide root: out along the table
+    # A wide root moves out along the heading until it lies on the table, clear of the body.
+    while not self._support.contains(xy, radius) or not self._clear_of_body(xy, radius):
       distance += 0.02
       xy = self._base_xy + forward * distance
       if distance > self._support.farthest_from(self._base_xy):
@@ -217,6 +227,14 @@ class ReachableParts(placement.PartInitializer):
       self._place(physics, item, yaw_rot, xy)
       placed.append((xy, radius))
 
+  def _clear_of_body(self, xy, radius):
+    """Whether a footprint of `radius` about `xy` keeps `gap` clear of the robot's body."""
+    if self._body is None:
+      return True
+    local = self._base_rot[:2, :2].T @ (np.asarray(xy) - self._base_xy)
+    outside = np.maximum(np.maximum(self._body[0] - local, local - self._body[1]), 0.0)
+    return bool(np.linalg.norm(outside) >= radius + self._gap)
+
   def _sample_xy(self, random_state, radius, placed, reach=None, side=None):
     """A free xy for an item of `radius`, between the nearest distance allowed and `reach`
     (default the band's outer edge; given, it may leave a band only 1 cm wide); with
@@ -241,7 +259,8 @@ class ReachableParts(placement.PartInitializer):
           angle = self._heading + (turn if half is None else half * abs(turn))
           xy = self._base_xy + distance * np.array([np.cos(angle), np.sin(angle)])
           if (all(np.linalg.norm(xy - other) > radius + other_r + self._gap
-                  for other, other_r in placed) and self._support.contains(xy, radius)):
+                  for other, other_r in placed) and self._support.contains(xy, radius)
+              and self._clear_of_body(xy, radius)):
             return xy
       if self._side_reach and reach is None and not further:
         further = self._side_reach[1] - self._reach   # out at the sides, still within reach
@@ -259,4 +278,5 @@ def for_reach_zone(furniture, reach_zone, support, spread, yaw_range, preassembl
   return ReachableParts(furniture, reach_zone.base_xy, reach_zone.base_rot, reach_zone.reach,
                         reach_zone.min_distance, reach_zone.root_distance, reach_zone.sector,
                         spread=spread, yaw_range=yaw_range, preassembled=preassembled,
-                        support=support, arms=reach_zone.arms, side_reach=reach_zone.side_reach)
+                        support=support, arms=reach_zone.arms, side_reach=reach_zone.side_reach,
+                        body=reach_zone.body)

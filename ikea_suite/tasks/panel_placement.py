@@ -8,13 +8,15 @@ cabinet side. It stands in its slot as it will stand in the furniture, up to a
 turn about the vertical, so the arm carries it upright from the rack to its mate.
 Rods and blocks (legs, the parts of every stool and four-leg table in the
 catalog) still lie on the floor, and so does a panel that lies flat when
-assembled (a shelf, a lid).
+assembled (a shelf, a lid). A round panel (a disc: a round seat, a round table
+top) stands in a slot with chocks (props/panel_rack.py).
 """
 
 import numpy as np
 
 from ikea_suite import geometry
 from ikea_suite.props import panel_rack
+from ikea_suite.tasks import resting
 
 PANEL_RATIO = 0.26   # a bench's 20 x 80 mm stretcher (a quarter) is a panel
 # Standing, a racked panel's top must clear the fins by the fingers' grip on its top edge
@@ -36,6 +38,18 @@ def is_panel(extents):
   next-smallest extent (a box wall, a seat; not a leg, a rail or a block)."""
   low, middle, _ = np.sort(extents)
   return bool(low < PANEL_RATIO * middle)
+
+
+def is_disc(part, thin_axis):
+  """Whether a part collides through a cylinder whose axis is its thin axis (`thin_axis`,
+  0-2, of its bounds): a round panel, whose rim is round."""
+  for geom in part.element.iter("geom"):
+    if geom.get("type") != "cylinder" or geom.get("contype") == "0":
+      continue
+    quat = [float(v) for v in geom.get("quat", "1 0 0 0").split()]
+    if abs(geometry.quat_to_mat(quat)[thin_axis, 2]) > 0.99:
+      return True
+  return False
 
 
 def upright_panels(spec, root, root_rest):
@@ -78,6 +92,10 @@ def slot_sizes(spec, panels):
 class RackedPanels:
   """Builds the rack for a furniture's upright panels and places it and them each episode.
 
+  A panel stands upright in the middle of its slot, just above the plate; one that would
+  lean into its slot from there starts leaning as it comes to rest (resting.py), every
+  such panel leaning the same way along the rack, whichever way round it stands.
+
   Args:
     spec: the furniture's spec.
     root: the root part's index.
@@ -87,8 +105,23 @@ class RackedPanels:
   def __init__(self, spec, root, root_rest):
     self._spec = spec
     self._panels = upright_panels(spec, root, root_rest)
-    self.rack = (panel_rack.PanelRack(slots=slot_sizes(spec, self._panels))
+    discs = [is_disc(spec.parts[index], int(np.argmin(np.ptp(spec.parts[index].bounds, axis=0))))
+             for index, _ in self._panels]
+    self.rack = (panel_rack.PanelRack(slots=slot_sizes(spec, self._panels), discs=discs)
                  if self._panels else None)
+    self._rests = (resting.rests_in_rack(
+        spec, self.rack.boxes, [(index, rot, self._stand(slot, rot, np.eye(3), np.zeros(3)))
+                                for slot, (index, rot) in enumerate(self._panels)],
+        self.rack.lean) if self._panels else [])
+
+  def _stand(self, slot, rot, rack_rot, origin):
+    """Position of a panel at world rotation `rot` stood upright in the middle of `slot`,
+    resting.LANDING above the plate, of the rack at `origin` turned by `rack_rot`."""
+    corners = geometry.box_corners(*self._spec.parts[self._panels[slot][0]].bounds) @ rot.T
+    bottom_middle = np.array([*(corners[:, :2].max(0) + corners[:, :2].min(0)) / 2,
+                              corners[:, 2].min()])
+    target = origin + rack_rot @ self.rack.slot_centre(slot) + [0.0, 0.0, resting.LANDING]
+    return target - bottom_middle
 
   @property
   def parts(self):
@@ -112,14 +145,19 @@ class RackedPanels:
     rack_rot = geometry.rot_z(yaw)
     origin = np.array([xy[0], xy[1], height])
     self.rack.set_pose(physics, position=origin, quaternion=geometry.mat_to_quat(rack_rot))
-    for slot, (index, rot) in enumerate(self._panels):
+    for slot, ((index, rot), rests) in enumerate(zip(self._panels, self._rests)):
       if index in skip:
         continue
-      rot = rack_rot @ geometry.rot_z(np.pi * random_state.randint(2)) @ rot
-      corners = geometry.box_corners(*self._spec.parts[index].bounds) @ rot.T
-      bottom_middle = np.array([*(corners[:, :2].max(0) + corners[:, :2].min(0)) / 2,
-                                corners[:, 2].min()])
-      target = origin + rack_rot @ self.rack.slot_centre(slot) + [0.0, 0.0, 1e-3]
+      half_turns = random_state.randint(2)
+      turn = geometry.rot_z(np.pi * half_turns)
+      rest = rests[half_turns]   # turned, the rest leaning the other way leans this way
+      if rest.position is None:
+        rot = rack_rot @ turn @ rot
+        position = self._stand(slot, rot, rack_rot, origin)
+      else:   # the rest found in the slot, turned with the panel about the slot's middle
+        centre = self.rack.slot_centre(slot)
+        rot = rack_rot @ turn @ rest.rotation
+        position = origin + rack_rot @ (centre + turn @ (rest.position - centre))
       part = furniture.parts[index]
-      part.set_pose(physics, position=target - bottom_middle, quaternion=geometry.mat_to_quat(rot))
+      part.set_pose(physics, position=position, quaternion=geometry.mat_to_quat(rot))
       part.set_velocity(physics, velocity=np.zeros(3), angular_velocity=np.zeros(3))

@@ -1,4 +1,9 @@
-"""Initial placement: every part lies flat on the floor, scattered around the assembly area."""
+"""Initial placement: every part lies flat on the floor, scattered around the assembly area.
+
+A part lies on its largest face (`resting_rotation`) and lands from just above the floor,
+unless it would not come to rest so: then it starts in the pose it rests in
+(tasks/resting.py).
+"""
 
 import abc
 
@@ -6,6 +11,7 @@ import numpy as np
 from dm_control import composer
 
 from ikea_suite import geometry
+from ikea_suite.tasks import resting
 
 CLEARANCE = 0.15   # m from the assembled furniture's radius to the ring parts lie in
 GAP = 0.03         # m, least gap between two placed parts
@@ -17,6 +23,22 @@ _LIE_FLAT = {0: np.array([[0.0, 0, -1], [0, 1, 0], [1, 0, 0]]),   # part x axis 
 def resting_rotation(bounds):
   """Rotation laying a part on its largest face: its thinnest extent becomes vertical."""
   return _LIE_FLAT[int(np.argmin(bounds[1] - bounds[0]))]
+
+
+def lying_rests(spec):
+  """part index -> resting.Rest of every part laid on its largest face on a flat support."""
+  return resting.rests_on_support(
+      spec, {i: resting_rotation(p.bounds) for i, p in enumerate(spec.parts)})
+
+
+def lift(item, corners, rests, height=0.0):
+  """Height (m) to raise an item (a list of (part, rotation, position) placed together)
+  by, on a support `height` high: to its rest height for a single part that starts at
+  rest (resting.Rest.position), else its lowest corner (`corners`, (n, 3), as placed
+  before the lift) resting.LANDING above the support."""
+  if len(item) == 1 and rests[item[0][0]].position is not None:
+    return height + rests[item[0][0]].position[2]
+  return height - corners[:, 2].min() + resting.LANDING
 
 
 def assembled_radius(spec):
@@ -58,6 +80,12 @@ class PartGroups:
     self._preassembled = tuple(preassembled)
     self._design_pairs = design_pairs(furniture.spec, furniture.connectors)
     self._preassembled_pairs = []
+    self._rests = lying_rests(furniture.spec)
+
+  @property
+  def rests(self):
+    """part index -> resting.Rest of each part lying alone (see draw_items)."""
+    return self._rests
 
   @property
   def preassembled_pairs(self):
@@ -74,15 +102,14 @@ class PartGroups:
       random_state: numpy RandomState.
     Returns:
       Lists of (part index, rotation (3, 3), position (3,) in m) to place rigidly
-      together, largest first: a single part lying flat, or a group in its
-      assembled pose relative to the furniture origin.
+      together, largest first: a single part lying at rest (`rests`), or a group in
+      its assembled pose relative to the furniture origin.
     """
     groups = self._choose_groups(random_state)
     items = []
     for group in groups:
       if len(group) == 1:
-        spec = self._spec(group[0])
-        items.append([(group[0], resting_rotation(spec.bounds), np.zeros(3))])
+        items.append([(group[0], self._rests[group[0]].rotation, np.zeros(3))])
       else:
         items.append([(i, self._spec(i).rot, self._spec(i).pos) for i in group])
     def extent(item):
@@ -142,7 +169,7 @@ class ScatteredParts(PartInitializer):
       radius = np.linalg.norm(corners[:, :2] - center_xy, axis=1).max()
       xy = self._sample_xy(random_state, radius, placed)
       placed.append((xy, radius))
-      shift = np.array([*(xy - center_xy), -corners[:, 2].min() + 1e-3])
+      shift = np.array([*(xy - center_xy), lift(item, corners, self._groups.rests)])
       for (index, _, _), rot, offset in zip(item, rots, offsets):
         self._furniture.set_part_pose(physics, index, offset + shift, geometry.mat_to_quat(rot))
 
