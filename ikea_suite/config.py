@@ -49,6 +49,9 @@ REWARDS = ("sparse", "dense")
 IMAGE_KINDS = ("rgb", "depth", "segmentation")
 CAMERA_OUTPUTS = IMAGE_KINDS + ("part_boxes",)
 MAX_IMAGE_SIZE = 2048           # px, per side of a camera image
+# An agent that acts less often than once a second cannot servo a part onto its mate;
+# the bound also keeps the substeps of one control step within MuJoCo's int count.
+MAX_CONTROL_TIMESTEP = 1.0
 MAX_SEED = 2**32 - 1            # numpy's RandomState, which composer seeds, takes 32-bit seeds
 # Default Cartesian stiffness of impedance mode: 1500 N/m and 60 N m/rad, ten times
 # libfranka's Cartesian impedance example (150 N/m, 10 N m/rad,
@@ -269,7 +272,7 @@ class TaskConfig(_Config):
   time_limit: float | None = _option(
       None, "episode length; None: 30 s plus 25 s per part", "s")
   control_timestep: float = _option(
-      0.05, "time between actions (20 Hz, as the paper's environment)", "s")
+      0.05, "time between actions (20 Hz, as the paper's environment), at most 1 s", "s")
   physics_timestep: float = _option(
       physics_settings.TIMESTEP,
       "MuJoCo's time step; control_timestep must be a whole multiple of it, and an arm's "
@@ -317,7 +320,7 @@ class TaskConfig(_Config):
   def __post_init__(self):
     if self.time_limit is not None:
       self._set("time_limit", check.positive("time_limit", self.time_limit))
-    control = check.positive("control_timestep", self.control_timestep)
+    control = check.positive("control_timestep", self.control_timestep, MAX_CONTROL_TIMESTEP)
     physics = check.positive("physics_timestep", self.physics_timestep)
     substeps = control / physics
     if abs(substeps - round(substeps)) > 1e-6 or round(substeps) < 1:

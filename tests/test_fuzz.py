@@ -168,7 +168,7 @@ def load_arguments(draw):
 
 
 # Inputs that load()'s option checks (types and ranges of the options and the seed) must
-# refuse with an IkeaSuiteError; this fuzz found each raising the exception noted.
+# refuse with an IkeaSuiteError, each with the exception it raises where unchecked.
 OPTION_CHECK_FAILURES = (
     ((FURNITURE, "cursor", 0, {"randomize": True}), "TypeError: 'bool' object is not iterable"),
     ((FURNITURE, "cursor", 0, {"randomize": 5}), "TypeError: 'int' object is not iterable"),
