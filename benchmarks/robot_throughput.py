@@ -9,7 +9,7 @@ IK step (DifferentialIK.step).
 Usage:
 
     python benchmarks/robot_throughput.py [--steps 500] [--furniture NAME] [--robots sawyer ...]
-        [--clock wall|cpu] [--repeats 1] [--block 25]
+        [--clock wall|cpu] [--repeats 1] [--block 25] [--write]
 
 --clock cpu times with this thread's CPU time instead of wall time: on a
 machine shared with other jobs, waiting for a core then counts on neither side.
@@ -17,7 +17,9 @@ machine shared with other jobs, waiting for a core then counts on neither side.
 over the passes, env/raw the median of the passes' ratios, and control and IK
 come from one more pass with timers (time_robot). --block sets how many control steps each side runs before
 the other takes its turn (replay_timing); a block as long as --steps times a
-whole env pass, then a whole raw pass.
+whole env pass, then a whole raw pass. --write also puts the table, headed by the command,
+date, machine and versions, into docs/benchmarks.md, and each robot's default-mode row into
+the README's headline table (scripts/make_docs.py's markers).
 
 References (table_lack; see the README's Robots section): the original IKEA environment
 reported Sawyer impedance 225, Sawyer IK 44 and Cursor 491 steps/s; robosuite
@@ -25,6 +27,8 @@ reported Sawyer impedance 225, Sawyer IK 44 and Cursor 491 steps/s; robosuite
 """
 
 import argparse
+import pathlib
+import sys
 import time
 
 import numpy as np
@@ -34,6 +38,7 @@ import ikea_suite
 from ikea_suite.robots import control_modes
 from ikea_suite.robots import manipulator
 
+ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 CLOCKS = {"wall": time.perf_counter, "cpu": time.thread_time}
 
@@ -110,15 +115,17 @@ def main():
                       help="timed passes per row: least times, median ratio")
   parser.add_argument("--block", type=int, default=replay_timing.BLOCK,
                       help="control steps per turn of the env and raw sides")
+  parser.add_argument("--write", action="store_true",
+                      help="also write the table into docs/benchmarks.md and README.md")
   args = parser.parse_args()
   robots = args.robots or ikea_suite.robot_names()
   rng = np.random.default_rng(0)
   header = (f"{'robot':8s} {'control mode':16s} {'substeps':>8s} {'env steps/s':>11s} "
             f"{'raw steps/s':>11s} {'env/raw':>7s} {'control ms':>10s} {'IK ms':>6s}")
-  print(f"furniture: {args.furniture}, clock: {args.clock}, repeats: {args.repeats}, "
-        f"block: {args.block}")
-  print(header)
-  print("-" * len(header))
+  lines = [f"furniture: {args.furniture}, clock: {args.clock}, repeats: {args.repeats}, "
+           f"block: {args.block}", header, "-" * len(header)]
+  print("\n".join(lines))
+  headline = []   # each robot's row in its default control mode (the README's table)
   for robot in robots:
     modes = args.modes if robot != "cursor" else [None]
     for mode in modes:
@@ -126,9 +133,22 @@ def main():
       env = ikea_suite.load(args.furniture, robot, seed=0, **options)
       env_t, raw_t, ratio, substeps, control_t, ik_t = time_robot(
           env, args.steps, rng, CLOCKS[args.clock], args.repeats, args.block)
-      print(f"{robot:8s} {mode or '-':16s} {substeps:8d} {1 / env_t:11.0f} {1 / raw_t:11.0f} "
-            f"{ratio:7.2f} {1e3 * control_t:10.3f} {1e3 * ik_t:6.3f}", flush=True)
+      lines.append(f"{robot:8s} {mode or '-':16s} {substeps:8d} {1 / env_t:11.0f} "
+                   f"{1 / raw_t:11.0f} {ratio:7.2f} {1e3 * control_t:10.3f} {1e3 * ik_t:6.3f}")
+      print(lines[-1], flush=True)
+      if mode in (None, control_modes.TASK_SPACE):   # the arms' default mode
+        headline.append([f"`{robot}`", mode or "-", f"{1 / env_t:.0f}", f"{1 / raw_t:.0f}",
+                         f"{ratio:.2f}"])
       env.close()
+  if args.write:
+    sys.path.insert(0, str(ROOT / "scripts"))
+    import make_docs  # pylint: disable=g-import-not-at-top
+    command = make_docs.invoked_command()
+    make_docs.write_block(ROOT / "docs" / "benchmarks.md", "robot-throughput",
+                          "```text\n" + "\n".join(lines) + "\n```\n", command)
+    make_docs.write_block(ROOT / "README.md", "benchmark-headline", make_docs.markdown_table(
+        ["robot", "control mode", "env steps/s", "raw MuJoCo steps/s", "env / raw"], headline,
+        "llrrr"), command)
 
 
 if __name__ == "__main__":

@@ -22,3 +22,11 @@ def test_ci_runs_the_readme_commands_verbatim():
 def test_readme_starts_with_the_set_up():
   readme = (ROOT / "README.md").read_text()
   assert readme.index("python3 -m venv") < readme.index("## ")
+
+
+def test_readme_is_a_front_door_of_at_most_400_lines():
+  readme = (ROOT / "README.md").read_text()
+  assert len(readme.splitlines()) <= 400
+  for page in ("docs/index.md", "docs/options.md", "docs/experts.md", "docs/benchmarks.md",
+               "CHANGELOG.md"):
+    assert page in readme or page.removeprefix("docs/") in readme, page
