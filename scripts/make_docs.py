@@ -213,8 +213,8 @@ _MEANINGS = {
     "max_rotation": "radians the tool target turns per control step at a rotate action of 1",
     "base_pos": "world position of the base (`work_table`: z from the table top)",
     "base_yaw": "turn of the base about the vertical, rad",
-    "wrist_camera": "add an egocentric RGB camera on each hand",
-    "camera_size": "`(height, width)` of the wrist cameras",
+    "wrist_camera": "add an RGB observable `<robot>/wrist_camera` from each hand's camera",
+    "camera_size": "`(height, width)` of `wrist_camera`'s images",
     "impedance_stiffness": "`(N/m, N m/rad)` of the Cartesian spring in `impedance` mode",
 }
 
