@@ -5,12 +5,17 @@ one camera: env steps/s with that observation (physics, task and rendering
 together), and frames/s of the renderer alone on a fixed scene. The first row
 is the state-only env (no camera) for reference. Usage:
 
-    MUJOCO_GL=egl python benchmarks/render_throughput.py [--steps 200] [--sizes 84 256]
+    MUJOCO_GL=egl python benchmarks/render_throughput.py [--steps 200] [--sizes 84 256] [--write]
+
+--write also puts the table, headed by the command, date, machine and versions, into
+docs/benchmarks.md (scripts/make_docs.py's markers).
 """
 
 import argparse
 import os
+import pathlib
 import platform
+import sys
 import time
 
 os.environ.setdefault("MUJOCO_GL", "egl")   # headless by default; must precede dm_control
@@ -19,6 +24,7 @@ import numpy as np  # pylint: disable=g-import-not-at-top
 
 import ikea_suite  # pylint: disable=g-import-not-at-top
 
+ROOT = pathlib.Path(__file__).resolve().parents[1]
 CONFIGS = (("rgb", ("rgb",)), ("rgb+depth+seg", ("rgb", "depth", "segmentation")))
 
 
@@ -70,6 +76,8 @@ def main():
   parser.add_argument("--camera", default="front")
   parser.add_argument("--steps", type=int, default=200)
   parser.add_argument("--sizes", type=int, nargs="+", default=[84, 256])
+  parser.add_argument("--write", action="store_true",
+                      help="also write the table into docs/benchmarks.md")
   args = parser.parse_args()
   rng = np.random.default_rng(0)
 
@@ -87,15 +95,21 @@ def main():
       rows.append((label, f"{size}x{size}", step_rate, frame_rate))
       env.close()
 
-  print(f"MUJOCO_GL={os.environ['MUJOCO_GL']}, GL renderer: {renderer_name}")
-  print(f"CPU: {cpu_description()}, {os.cpu_count()} cores; "
-        f"furniture {args.furniture}, camera {args.camera!r}, {args.steps} steps per row")
-  print()
-  print(f"| {'observation':<14} | {'size':<7} | {'env steps/s':>11} | {'render frames/s':>15} |")
-  print(f"|{'-' * 16}|{'-' * 9}|{'-' * 13}|{'-' * 17}|")
+  intro = [f"MUJOCO_GL={os.environ['MUJOCO_GL']}, GL renderer: {renderer_name}",
+           f"CPU: {cpu_description()}, {os.cpu_count()} cores; "
+           f"furniture {args.furniture}, camera {args.camera!r}, {args.steps} steps per row"]
+  table = [f"| {'observation':<14} | {'size':<7} | {'env steps/s':>11} | {'render frames/s':>15} |",
+           f"|{'-' * 16}|{'-' * 9}|{'-' * 13}|{'-' * 17}|"]
   for label, size, step_rate, frame_rate in rows:
     frames = "-" if frame_rate is None else f"{frame_rate:.0f}"
-    print(f"| {label:<14} | {size:<7} | {step_rate:>11.0f} | {frames:>15} |")
+    table.append(f"| {label:<14} | {size:<7} | {step_rate:>11.0f} | {frames:>15} |")
+  print("\n".join(intro + [""] + table))
+  if args.write:
+    sys.path.insert(0, str(ROOT / "scripts"))
+    import make_docs  # pylint: disable=g-import-not-at-top
+    body = "\n\n".join(intro) + "\n\n" + "\n".join(table) + "\n"
+    make_docs.write_block(ROOT / "docs" / "benchmarks.md", "render-throughput", body,
+                          make_docs.invoked_command())
 
 
 if __name__ == "__main__":

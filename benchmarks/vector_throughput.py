@@ -7,17 +7,24 @@ and prints total env steps/s, the speed-up over one plain (unvectorized)
 gymnasium env in this process, and the efficiency (speed-up / n). Usage:
 
     nice python benchmarks/vector_throughput.py [--steps 400] [--furniture NAME] [--robot cursor]
-        [--max-envs N]
+        [--max-envs N] [--write]
+
+--write also puts the table, headed by the command, date, machine and versions, into
+docs/benchmarks.md (scripts/make_docs.py's markers).
 """
 
 import argparse
 import os
+import pathlib
+import sys
 import time
 
 import gymnasium
 import numpy as np
 
 import ikea_suite.gym
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 
 def single_rate(furniture, robot, steps):
@@ -59,6 +66,8 @@ def main():
   parser.add_argument("--furniture", default=ikea_suite.DEFAULT_FURNITURE)
   parser.add_argument("--robot", default=ikea_suite.DEFAULT_ROBOT)
   parser.add_argument("--max-envs", type=int, default=os.cpu_count() or 1)
+  parser.add_argument("--write", action="store_true",
+                      help="also write the table into docs/benchmarks.md")
   args = parser.parse_args()
   counts, n = [], 1
   while n <= args.max_envs:
@@ -67,12 +76,20 @@ def main():
   if counts[-1] != args.max_envs:
     counts.append(args.max_envs)
   single = single_rate(args.furniture, args.robot, args.steps)
-  print(f"{args.furniture} with {args.robot}, {os.cpu_count()} cores, random actions, no rendering")
-  print(f"single env (no vector wrapper): {single:.0f} steps/s")
-  print(f"{'processes':>9s} {'total steps/s':>14s} {'speed-up':>9s} {'efficiency':>11s}")
+  lines = [f"{args.furniture} with {args.robot}, {os.cpu_count()} cores, random actions, "
+           f"no rendering", f"single env (no vector wrapper): {single:.0f} steps/s",
+           f"{'processes':>9s} {'total steps/s':>14s} {'speed-up':>9s} {'efficiency':>11s}"]
+  print("\n".join(lines))
   for n in counts:
     rate = vector_rate(args.furniture, args.robot, n, args.steps)
-    print(f"{n:9d} {rate:14.0f} {rate / single:9.2f} {rate / single / n:11.2f}")
+    lines.append(f"{n:9d} {rate:14.0f} {rate / single:9.2f} {rate / single / n:11.2f}")
+    print(lines[-1], flush=True)
+  if args.write:
+    sys.path.insert(0, str(ROOT / "scripts"))
+    import make_docs  # pylint: disable=g-import-not-at-top
+    body = "```text\n" + "\n".join(lines) + "\n```\n"
+    make_docs.write_block(ROOT / "docs" / "benchmarks.md", "vector-throughput", body,
+                          make_docs.invoked_command())
 
 
 if __name__ == "__main__":
