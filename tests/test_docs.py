@@ -1,6 +1,7 @@
 """The docs: generated tables match the code they come from, and the site builds strictly."""
 
 import pathlib
+import re
 import shutil
 import subprocess
 import sys
@@ -68,3 +69,17 @@ def test_the_site_builds_strictly(tmp_path):
       cwd=ROOT, capture_output=True, text=True, check=False)
   assert result.returncode == 0, result.stdout + result.stderr
   assert (tmp_path / "site" / "index.html").exists()
+
+
+def test_readme_and_docs_tell_no_history():
+  # History lives in git log and CHANGELOG.md; the generated headers' dates are not history.
+  history = re.compile(r"\b(first|second|third|\w+th) session|earlier sweeps?|\b20\d\d-\d\d-\d\d\b"
+                       r"|\bissue \d+|\bround \d+", re.I)
+  for page in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
+    text = page.read_text()
+    for name in make_docs.blocks(text):
+      start = text.index(make_docs.BEGIN.format(name))
+      end = text.index(make_docs.END.format(name))
+      text = text[:start] + text[end:]
+    found = history.search(text)
+    assert found is None, (page.name, found and found.group(0))
