@@ -312,16 +312,29 @@ def supported_summary() -> str:
 
 
 def supported_pairs() -> str:
-  """Every model an arm's expert assembles, with the scale it assembles it at (experts)."""
+  """Every model an arm's expert was measured on: completed / episodes, bold where listed,
+  and the scale (experts, from ikea_suite/experts/supported.json)."""
   experts, _ = _supported()
   arms = [r for r in experts.ROBOTS if r != "cursor"]
-  furniture = sorted({f for r in arms for f in experts.supported(r)})
+  measured = {r: {m.furniture: m for m in experts.measurements(r)} for r in arms}
+  furniture = sorted({f for r in arms for f in measured[r]})
   rows = []
   for name in furniture:
-    cells = [f"{experts.supported_scale(r, name):g}" if name in experts.supported(r) else ""
-             for r in arms]
+    cells = []
+    for robot in arms:
+      m = measured[robot].get(name)
+      if m is None:
+        cells.append("")
+        continue
+      count = f"{m.completed}/{m.episodes}"
+      if m.both_arms is not None:
+        count += f" ({m.both_arms} both arms)"
+      cells.append(f"{f'**{count}**' if m.supported else count} at {m.scale:g}")
     rows.append([f"`{name}`"] + cells)
-  return markdown_table(["furniture"] + arms, rows, "l" + "r" * len(arms))
+  seeds = {r: sorted({m.seeds for m in measured[r].values()}) for r in arms}
+  note = "; ".join(f"{r} {', '.join(s)}" for r, s in seeds.items() if s)
+  return (markdown_table(["furniture"] + arms, rows, "l" + "l" * len(arms))
+          + f"\nSeeds measured: {note}.\n")
 
 
 def robots() -> str:
