@@ -22,10 +22,8 @@ tables through `write_block` with their own `--write` flag; `--check` does not j
 """
 
 import argparse
-import dataclasses
 import datetime
 import importlib.metadata
-import inspect
 import os
 import pathlib
 import platform
@@ -173,120 +171,17 @@ def catalog_categories() -> str:
                         "lrrrl")
 
 
-# Today's load() options: the defaults are read from the functions and classes that take
-# them (placement, randomization, cameras, the task, alignment thresholds, each robot's
-# constructor); the meanings are the docs' words for them. An option without a meaning
-# here stops the generator, so a new option cannot go undocumented.
-_MEANINGS = {
-    "time_limit": "simulated seconds per episode; the last step is truncated with discount 1",
-    "control_timestep": "seconds per `env.step` (20 Hz)",
-    "physics_timestep": "MuJoCo timestep; must divide `control_timestep`",
-    "distance_threshold": "metres between mating connectors (paper eq. 2); "
-                          "scales with `scale` unless given",
-    "up_threshold": "least cosine between the connectors' up axes, about 8° (eq. 3)",
-    "forward_threshold": "least cosine between forward axes over the allowed twists (eq. 4)",
-    "connection_reward": "reward for each new connection",
-    "completion_bonus": "extra reward when the last part joins",
-    "reward": '`"sparse"` or `"dense"` (potential-based shaping, [the task](task.md#dense-reward))',
-    "scale": "furniture size factor, 0.2 to 2: lengths × s, masses × s³, inertias × s⁵",
-    "arena": '`"floor"`, or `"work_table"` (arms only): a 0.75 m table, the arm on a '
-             'pedestal as high',
-    "scene": "look of the arena: a [scene preset](randomization.md#scene-presets)",
-    "spread": "width (m) of the band where loose parts lie (arms: within their reach)",
-    "preassembled": "connections made before the episode starts: an int or an inclusive "
-                    "`(low, high)` range",
-    "yaw_range": "loose parts get a yaw uniform in `[-yaw_range, yaw_range]` rad",
-    "randomize": "[domain randomization](randomization.md#domain-randomization): a factor or "
-                 "group name, a list of them, or a dict",
-    "cameras": "camera names to observe: `front`, `top`, `side` and the robot's",
-    "camera_outputs": "any of `rgb`, `depth`, `segmentation`, `part_boxes`",
-    "image_size": "an int (square) or `(height, width)`, 1 to 2048 pixels",
-    "goal_image": "also observe each image with the furniture assembled",
-    "move_speed": "m/s at a move action of 1",
-    "rotate_speed": "rad/s at a rotate action of 1",
-    "grasp_margin": "metres a cursor may sit outside a part's box and still take it",
-    "workspace": "the box `(low corner, high corner)` the cursors are kept in, m",
-    "radius": "radius of each cursor's sphere, m (visual only)",
-    "control_mode": "`task_space`, `task_space_pose`, `joint_position`, `joint_torque` or "
-                    "`impedance` ([control modes](robots.md#control-modes))",
-    "max_translation": "metres the tool target moves per control step at a move action of 1",
-    "max_rotation": "radians the tool target turns per control step at a rotate action of 1",
-    "base_pos": "world position of the base (`work_table`: z from the table top)",
-    "base_yaw": "turn of the base about the vertical, rad",
-    "wrist_camera": "add an RGB observable `<robot>/wrist_camera` from each hand's camera",
-    "camera_size": "`(height, width)` of `wrist_camera`'s images",
-    "impedance_stiffness": "`(N/m, N m/rad)` of the Cartesian spring in `impedance` mode",
-}
-
-
-def _default_text(value) -> str:
-  if isinstance(value, float) and abs(value - 3.141592653589793 / 2) < 1e-12:
-    return "π/2"
-  if isinstance(value, float) and abs(value - 3.141592653589793) < 1e-12:
-    return "π"
-  return f"`{value!r}`"
-
-
-def option_rows() -> list[tuple[str, str, str, str]]:
-  """(scope, name, default text, meaning) of every load() option, read from today's code."""
-  from ikea_suite import suite
-  from ikea_suite.robots import arm_actuators
-  from ikea_suite.robots import registry
-  from ikea_suite.tasks import alignment
-  from ikea_suite.tasks import assembly
-  from ikea_suite.tasks import camera_observables
-  from ikea_suite.tasks import placement
-  from ikea_suite.tasks import randomization
-
-  def defaults(function, names):
-    params = inspect.signature(function).parameters
-    return {n: params[n].default for n in names}
-
-  thresholds = {f.name: f.default for f in dataclasses.fields(alignment.Thresholds)}
-  task = defaults(assembly.Assembly.__init__, suite.TASK_OPTIONS)
-  rows = [("environment", "time_limit",
-           f"{suite.TIME_LIMIT_BASE:g} + {suite.TIME_LIMIT_PER_PART:g} × parts", "")]
-  rows += [("task", n, _default_text(task[n]), "") for n in suite.TASK_OPTIONS]
-  rows += [("task", n, _default_text(thresholds[field]), "")
-           for n, field in suite.THRESHOLD_OPTIONS.items()]
-  rows += [("furniture", "scale", _default_text(1.0), ""),
-           ("scene", "arena", _default_text("floor"), ""),
-           ("scene", "scene", _default_text("default"), "")]
-  scatter = defaults(placement.scattered_parts, placement.OPTIONS)
-  rows += [("placement", n, _default_text(scatter[n]), "") for n in placement.OPTIONS]
-  rows.append(("randomization", "randomize",
-               _default_text(defaults(randomization.attach, randomization.OPTIONS)["randomize"]),
-               ""))
-  camera = defaults(camera_observables.attach, camera_observables.OPTIONS)
-  rows += [("cameras", n, _default_text(camera[n]), "") for n in camera_observables.OPTIONS]
-  arms = registry.names("arm")
-  arm_defaults = registry.get(arms[0]).factory.option_defaults()
-  for name in arms[1:]:
-    if registry.get(name).factory.option_defaults() != arm_defaults:
-      raise ValueError(f"the {name}'s options differ from the {arms[0]}'s: give them a scope")
-  for robot in registry.names():
-    if robot in arms:
-      continue
-    rows += [(robot, n, _default_text(v), "")
-             for n, v in registry.get(robot).factory.option_defaults().items()]
-  for n, v in arm_defaults.items():
-    if n == "base_pos":
-      text = "each arm's own (robots table)"
-    elif n == "impedance_stiffness":
-      text = _default_text(arm_actuators.IMPEDANCE_STIFFNESS)
-    else:
-      text = _default_text(v)
-    rows.append(("arms", n, text, ""))
-  missing = [name for _, name, _, _ in rows if name not in _MEANINGS]
-  if missing:
-    raise KeyError(f"options without a meaning in scripts/make_docs.py: {missing}")
-  return [(scope, name, default, _MEANINGS[name]) for scope, name, default, _ in rows]
+def _cell(text: str) -> str:
+  """Text for a markdown table cell (a `|` would end the cell)."""
+  return str(text).replace("|", "\\|")
 
 
 def options() -> str:
-  """Every option of load(): scope, name, default and meaning (docs/options.md)."""
-  rows = [[scope, f"`{name}`", default, meaning] for scope, name, default, meaning
-          in option_rows()]
+  """Every option of load() and the gymnasium adapter: scope, name, default and meaning,
+  from the frozen dataclasses of ikea_suite/config.py (docs/options.md)."""
+  from ikea_suite import config
+  rows = [[row.scope, f"`{row.name}`", f"`{_cell(row.default)}`", _cell(row.meaning)]
+          for row in config.option_rows()]
   return markdown_table(["scope", "option", "default", "meaning"], rows)
 
 
@@ -349,7 +244,7 @@ def robots() -> str:
       lengths = {m: len(factory(control_mode=m).action_names) + 1 for m in control_modes.MODES}
       robot = factory()
       joints = (lengths[control_modes.JOINT_POSITION] - 2) // robot.num_arms
-      base = ", ".join(f"{v:g}" for v in factory.BASE_POS)
+      base = ", ".join(f"{v:g}" for v in robot.config.base_pos)
       actions = " / ".join(str(lengths[m]) for m in control_modes.MODES)
       rows.append([f"`{name}`", ", ".join(sorted(entry.tags)), robot.num_arms, joints,
                    f"({base})", f"{factory.REACH:g}", f"{factory.WORK_SCALE:g}", actions])
@@ -438,13 +333,22 @@ def constructions() -> str:
 
 
 def randomization_factors() -> str:
-  """Every randomization factor: its default when switched on, and what it varies."""
-  from ikea_suite.tasks import randomization
+  """Every randomization factor: its group, default when switched on, bounds and meaning
+  (config.RANDOMIZATION_FACTORS)."""
+  from ikea_suite import config
   rows = []
-  for name, (default, meaning) in randomization.FACTORS.items():
-    group = "physics" if name in randomization.PHYSICS_FACTORS else "visual"
-    rows.append([f"`{name}`", group, f"`{default!r}`", meaning])
-  return markdown_table(["factor", "group", "default when on", "meaning"], rows)
+  for name, factor in config.RANDOMIZATION_FACTORS.items():
+    group = "physics" if name in config.PHYSICS_FACTORS else "visual"
+    if factor.kind == "switch":
+      bounds = "on or off"
+    else:
+      bounds = (f">= {factor.low:g}" if factor.high == float("inf")
+                else f"{factor.low:g} to {factor.high:g}")
+      bounds += ", whole numbers" if factor.whole else ""
+    rows.append([f"`{name}`", group, factor.kind, f"`{factor.default!r}`", bounds,
+                 _cell(factor.meaning)])
+  return markdown_table(["factor", "group", "kind", "default when on", "allowed", "meaning"],
+                        rows)
 
 
 # name -> (the function, the pages its block lives in). Order: how --list prints them.
