@@ -247,11 +247,12 @@ def robots() -> str:
       base = ", ".join(f"{v:g}" for v in robot.config.base_pos)
       actions = " / ".join(str(lengths[m]) for m in control_modes.MODES)
       rows.append([f"`{name}`", ", ".join(sorted(entry.tags)), robot.num_arms, joints,
-                   f"({base})", f"{factory.REACH:g}", f"{factory.WORK_SCALE:g}", actions])
+                   f"({base})", f"{factory.REACH:g}", f"{type(robot.config).WORK_SCALE:g}",
+                   actions])
     else:
       robot = factory()
       rows.append([f"`{name}`", ", ".join(sorted(entry.tags)), "2 cursors", "", "", "",
-                   f"{factory.WORK_SCALE:g}", str(len(robot.action_names) + 1)])
+                   f"{type(robot.config).WORK_SCALE:g}", str(len(robot.action_names) + 1)])
   modes = " / ".join(control_modes.MODES)
   return markdown_table(["robot", "tags", "arms", "joints per arm", "base (m)", "part reach (m)",
                          "work scale", f"action length ({modes}; with `connect`)"], rows,
