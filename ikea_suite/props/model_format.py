@@ -126,6 +126,17 @@ def _referenced_assets(body, assets):
   return [a for a in assets if a.get("name") in textures] + chosen
 
 
+def _model_root(name, spec):
+  """A new <mujoco> element named `name` with the file's compiler settings but its angle
+  unit (the parts carry quaternions only)."""
+  root = ET.Element("mujoco", model=name)
+  compiler = dict(spec.compiler)
+  compiler.pop("angle", None)
+  if compiler:
+    ET.SubElement(root, "compiler", compiler)
+  return root
+
+
 def part_xml(part, spec):
   """The MJCF of one part as the furniture prop builds it (props/part.py).
 
@@ -139,11 +150,7 @@ def part_xml(part, spec):
   Returns:
     The <mujoco> element (a new tree; the spec is not changed).
   """
-  root = ET.Element("mujoco", model=part.name)
-  compiler = dict(spec.compiler)
-  compiler.pop("angle", None)
-  if compiler:
-    ET.SubElement(root, "compiler", compiler)
+  root = _model_root(part.name, spec)
   asset = ET.SubElement(root, "asset")
   for element in _referenced_assets(part.element, spec.assets):
     asset.append(copy.deepcopy(element))
@@ -164,11 +171,7 @@ def parts_xml(spec):
   Returns:
     The <mujoco> element, named as the furniture prop is (a new tree).
   """
-  root = ET.Element("mujoco", model=spec.name)
-  compiler = dict(spec.compiler)
-  compiler.pop("angle", None)
-  if compiler:
-    ET.SubElement(root, "compiler", compiler)
+  root = _model_root(spec.name, spec)
   assets = ET.SubElement(root, "asset")
   world = ET.SubElement(root, "worldbody")
   asset_names = set()
