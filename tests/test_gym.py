@@ -49,8 +49,8 @@ def test_make_gives_spaces_mirroring_specs_and_seeded_episodes(gl):
   first, info = env.reset(seed=3)
   assert info == {"connections": 0, "success": False, "blocked_connections": ()}
   same = ikea_suite.load("table_four_leg_lack", "cursor", seed=3).reset().observation
-  np.testing.assert_array_equal(first["table_four_leg_lack/part_positions"],
-                                same["table_four_leg_lack/part_positions"])
+  np.testing.assert_array_equal(first["furniture/part_positions"],
+                                same["furniture/part_positions"])
   env.close()
 
 
@@ -84,9 +84,9 @@ def test_async_vector_env_steps_two_processes():
   envs = gymnasium.make_vec(ikea_suite.gym.ENV_ID, num_envs=2, vectorization_mode="async",
                             vector_kwargs={"context": "spawn"}, time_limit=1.0)
   observations, infos = envs.reset(seed=0)
-  assert observations["connections"].shape == (2, 5, 5)
-  assert not np.array_equal(observations["table_four_leg_lack/part_positions"][0],
-                            observations["table_four_leg_lack/part_positions"][1])
+  assert observations["task/connections"].shape == (2, 5, 5)
+  assert not np.array_equal(observations["furniture/part_positions"][0],
+                            observations["furniture/part_positions"][1])
   _, rewards, terminated, truncated, infos = envs.step(envs.action_space.sample())
   assert rewards.shape == (2,) and not terminated.any() and not truncated.any()
   assert list(infos["connections"]) == [0, 0]

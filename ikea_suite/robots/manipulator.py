@@ -465,7 +465,8 @@ class ManipulatorObservables(composer.Observables):
     if entity.wrist_camera_size is not None:
       height, width = entity.wrist_camera_size
       for arm in entity.arms:
-        self.add_observable(f"{arm.prefix}wrist_camera",
+        # An image: the task files it under cameras/ as `<camera>_rgb` (observations.py).
+        self.add_observable(f"{arm.prefix}wrist_rgb",
                             observable.MJCFCamera(arm.camera, height=height, width=width))
 
   @composer.observable
