@@ -15,6 +15,7 @@ mirrors its specs as spaces (`spaces.py`) and translates time steps.
   `render_camera` at `render_size`.
 """
 
+import dataclasses
 from typing import Any
 
 import dm_env
@@ -75,8 +76,23 @@ class AssemblyEnv(gymnasium.Env):
     buffer.offheight, buffer.offwidth = max(buffer.offheight, height), max(buffer.offwidth, width)
     self.metadata = dict(self.metadata, render_fps=round(1.0 / self._env.control_timestep()))
     self.observation_space = spaces_lib.dict_from_specs(self._env.observation_spec())
-    self.action_space = spaces_lib.box_from_spec(self._env.action_spec())
+    # float32, as learners send them; step() widens to the suite's float64 exactly.
+    self.action_space = spaces_lib.box_from_spec(self._env.action_spec(), dtype=np.float32)
+    self._max_episode_steps = self._env.task.config.max_steps
+    self._spec = None
     self._needs_reset = True
+
+  @property
+  def spec(self) -> gymnasium.envs.registration.EnvSpec | None:
+    """The registration spec, with `max_episode_steps` the suite's own time limit in control
+    steps for these options (no TimeLimit wrapper: the suite truncates)."""
+    return self._spec
+
+  @spec.setter
+  def spec(self, value: gymnasium.envs.registration.EnvSpec | None) -> None:
+    if value is not None:
+      value = dataclasses.replace(value, max_episode_steps=self._max_episode_steps)
+    self._spec = value
 
   @property
   def suite_env(self) -> ikea_suite.environment.Environment:
