@@ -13,6 +13,9 @@ or divergence) is reset inside the same step with a fresh random placement:
 `reward`, `done` and `info["truncation"]` describe the step that ended, `obs`
 and `data` already the next episode's start (gymnasium's same-step
 autoreset), `info["final_obs"]` the last observation of the ended one.
+Observations carry the CPU environment's keys (ikea_suite.observations); the
+gymnasium vector env (gym_vector.py) gives them its dtypes and turns this into
+gymnasium's default next-step autoreset with `restart_batch`.
 """
 
 import functools

@@ -26,6 +26,7 @@ import ikea_suite
 from ikea_suite import config
 from ikea_suite import errors
 from ikea_suite.gym import spaces as spaces_lib
+from ikea_suite.tasks import cameras
 
 RENDER_MODES = ("rgb_array",)
 
@@ -100,7 +101,9 @@ class AssemblyEnv(gymnasium.Env):
     return self._env
 
   def _observation(self, timestep: dm_env.TimeStep) -> dict[str, np.ndarray]:
-    return {name: np.array(value) for name, value in timestep.observation.items()}
+    # Each value is already the caller's own array (composer's buffers copy on read; the
+    # environment's direct readers give fresh arrays), so none is copied again.
+    return {name: np.asarray(value) for name, value in timestep.observation.items()}
 
   def _info(self) -> dict[str, Any]:
     task = self._env.task
@@ -160,6 +163,7 @@ class AssemblyEnv(gymnasium.Env):
     if self.render_mode is None:
       return None
     height, width = self._render_size
+    cameras.claim_gl()
     return self._env.physics.render(height, width, camera_id=self._render_camera)
 
   def close(self) -> None:
