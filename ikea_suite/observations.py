@@ -227,7 +227,11 @@ def vocabulary_rows(robot: str = "cursor", furniture: str | None = None,
     rows = []
     for name, s in env.observation_spec().items():
       e = entry(name)
-      rows.append((name, str(tuple(s.shape)), str(np.dtype(s.dtype)), e.unit, e.meaning))
+      meaning = e.meaning
+      if "*" in e.key:   # name the camera the row is about
+        head, tail = e.key.split("*")
+        meaning = meaning.replace("*", name[len(head):len(name) - len(tail)])
+      rows.append((name, str(tuple(s.shape)), str(np.dtype(s.dtype)), e.unit, meaning))
     return rows
   finally:
     env.close()

@@ -50,3 +50,9 @@ def test_vocabulary_rows_describe_the_loaded_environment():
   by_key = {r[0]: r for r in rows}
   assert by_key["furniture/part_positions"][1:4] == ("(5, 3)", "float64", "m")
   assert all(r[4] for r in rows)
+
+
+def test_camera_rows_name_their_camera():
+  rows = observations.vocabulary_rows("cursor", cameras=("top",), image_size=(8, 8))
+  by_key = {r[0]: r for r in rows}
+  assert "camera top" in by_key["cameras/top_rgb"][4] and "*" not in by_key["cameras/top_rgb"][4]
