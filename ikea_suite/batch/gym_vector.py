@@ -49,7 +49,8 @@ class AssemblyVectorEnv(gymnasium.vector.VectorEnv):
                **options):
     if robot != "cursor":
       raise errors.OptionValueError(
-          f"the batched environment supports robot 'cursor' only, got {robot!r}")
+          f"the batched environment supports robot 'cursor' only, got {robot!r}; for an arm "
+          f"use gymnasium.make_vec(..., vectorization_mode='async') (or 'sync')")
     if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
       raise errors.OptionValueError(f"num_envs must be an integer >= 1, got {num_envs!r}")
     self._env = env_lib.load(furniture, impl=impl, num_worlds=int(num_envs), **options)
