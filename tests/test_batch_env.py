@@ -173,3 +173,10 @@ def test_vector_env_resets_on_the_next_step():
   _, _, _, truncated, _ = vec.step(zeros)
   assert not truncated.any()
   np.testing.assert_array_equal(np.asarray(vec._state.task.steps), 1)
+
+
+def test_make_vec_for_an_arm_names_the_process_vectors():
+  import gymnasium
+  import ikea_suite.gym  # noqa: F401
+  with pytest.raises(ikea_suite.OptionValueError, match="vectorization_mode='async'"):
+    gymnasium.make_vec("ikea_suite/Assembly-v0", num_envs=2, robot="sawyer")
