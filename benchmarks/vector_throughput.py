@@ -44,9 +44,10 @@ def single_rate(furniture, robot, steps):
 
 
 def vector_rate(furniture, robot, num_envs, steps):
+  # gymnasium's defaults: the platform's start method (fork on Linux), observations in
+  # shared memory.
   envs = gymnasium.make_vec(ikea_suite.gym.ENV_ID, num_envs=num_envs, vectorization_mode="async",
-                            vector_kwargs={"context": "spawn"}, furniture=furniture, robot=robot,
-                            time_limit=1e4)
+                            furniture=furniture, robot=robot, time_limit=1e4)
   envs.reset(seed=0)
   envs.action_space.seed(0)
   for _ in range(20):

@@ -407,6 +407,12 @@ class TaskConfig(_Config):
     """Physics steps per control step."""
     return int(round(self.control_timestep / self.physics_timestep))
 
+  @property
+  def max_steps(self) -> int:
+    """Control steps in an episode that reaches the time limit (of a resolved config)."""
+    # dm_control ends the episode at the first step whose time reaches the limit.
+    return int(np.ceil(self.time_limit / self.control_timestep - 1e-9))
+
 
 def default_time_limit(num_parts: int) -> float:
   """The default time_limit (s) of a furniture with `num_parts` parts."""

@@ -11,6 +11,7 @@ from dm_control.rl import control
 
 from ikea_suite import composer_internals
 from ikea_suite import errors
+from ikea_suite import observations
 
 _MID, _LAST = dm_env.StepType.MID, dm_env.StepType.LAST   # looked up once, not every step
 
@@ -176,6 +177,11 @@ class Environment(composer.Environment):
       self._checked_spec = super().action_spec()
       self._action_bounds = (self._checked_spec.minimum, self._checked_spec.maximum)
     return self._checked_spec
+
+  def observation_spec(self):
+    """Composer's specs, bounded and typed by the observation vocabulary (observations.py)."""
+    return observations.bounded_specs(super().observation_spec(),
+                                      len(self.task.furniture.parts))
 
   def step(self, action):
     """Checks `action` (check_action), then steps; on a fresh environment or after the

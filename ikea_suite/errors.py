@@ -58,3 +58,8 @@ class EpisodeStartError(IkeaSuiteError, RuntimeError):
 
 class SequenceError(IkeaSuiteError, ValueError):
   """A furniture for which no assembly order with free insertion paths was found."""
+
+
+class RenderAfterForkError(IkeaSuiteError, RuntimeError):
+  """A process forked after its parent made an OpenGL context tried to render: the GL
+  driver's state it inherited cannot make a new context (it would wait forever)."""

@@ -53,7 +53,7 @@ def test_same_seed_same_batch(env):
   np.testing.assert_array_equal(np.asarray(a.data.qpos), np.asarray(b.data.qpos))
   assert not np.allclose(np.asarray(a.data.qpos), np.asarray(c.data.qpos))
   # Worlds differ from each other, and every part starts on the floor within the ring.
-  positions = np.asarray(a.obs["part_positions"])
+  positions = np.asarray(a.obs["furniture/part_positions"])
   assert not np.allclose(positions[0], positions[1])
   assert (positions[..., 2] > 0).all() and (positions[..., 2] < 0.5).all()
   actions = np.random.default_rng(0).uniform(-1, 1, size=(WORLDS, env.action_size))
@@ -112,9 +112,71 @@ def test_gymnasium_vector_env():
   obs, _ = vec.reset(seed=3)
   assert vec.observation_space.contains(obs)
   again, _ = vec.reset(seed=3)
-  np.testing.assert_array_equal(obs["part_positions"], again["part_positions"])
+  np.testing.assert_array_equal(obs["furniture/part_positions"], again["furniture/part_positions"])
   obs, reward, terminated, truncated, info = vec.step(np.zeros(vec.action_space.shape))
   assert vec.observation_space.contains(obs)
   assert reward.shape == terminated.shape == truncated.shape == (WORLDS,)
   with pytest.raises(ikea_suite.ActionError):
     vec.step(np.zeros((WORLDS + 1, vec.single_action_space.shape[0])))
+
+
+def test_vector_env_has_the_cpu_gym_envs_spaces_and_info_keys():
+  import gymnasium
+  import ikea_suite.gym  # noqa: F401  (registers the id)
+  from ikea_suite import batch
+  cpu = gymnasium.make("ikea_suite/Assembly-v0", furniture=FURNITURE, robot="cursor")
+  vec = batch.make_vector_env(FURNITURE, num_envs=WORLDS)
+  cpu_space, vec_space = cpu.observation_space, vec.single_observation_space
+  assert list(vec_space) == sorted(cpu_space)
+  for key in cpu_space:
+    a, b = cpu_space[key], vec_space[key]
+    assert (a.shape, a.dtype) == (b.shape, b.dtype), key
+    np.testing.assert_array_equal(a.low, b.low, err_msg=key)
+    np.testing.assert_array_equal(a.high, b.high, err_msg=key)
+  assert cpu.action_space == vec.single_action_space
+  assert vec.single_action_space.dtype == np.float32
+  _, cpu_info = cpu.reset(seed=0)
+  obs, vec_info = vec.reset(seed=0)
+  # The device does not compute the CPU task's reasons for a refused connect.
+  assert set(cpu_info) - {"blocked_connections"} <= set(vec_info)
+  for key, value in obs.items():
+    assert value.dtype == cpu_space[key].dtype and value.shape == (WORLDS,) + cpu_space[key].shape
+  assert vec.metadata["autoreset_mode"] == gymnasium.vector.AutoresetMode.NEXT_STEP
+
+
+def test_make_vec_vector_entry_point_gives_the_batched_env():
+  import gymnasium
+  import ikea_suite.gym  # noqa: F401
+  from ikea_suite.batch import gym_vector
+  vec = gymnasium.make_vec("ikea_suite/Assembly-v0", num_envs=WORLDS,
+                           vectorization_mode="vector_entry_point", furniture=FURNITURE)
+  assert isinstance(vec.unwrapped, gym_vector.AssemblyVectorEnv)
+  assert vec.spec.max_episode_steps == vec.unwrapped.batch_env.settings.max_steps
+
+
+def test_vector_env_resets_on_the_next_step():
+  from ikea_suite import batch
+  vec = batch.make_vector_env(FURNITURE, num_envs=WORLDS)
+  vec.reset(seed=1)
+  limit = vec.batch_env.settings.max_steps
+  state = vec._state
+  vec._state = state._replace(task=state.task._replace(
+      steps=np.full(WORLDS, limit - 1, dtype=np.int32)))
+  zeros = np.zeros(vec.action_space.shape, dtype=np.float32)
+  last, _, terminated, truncated, _ = vec.step(zeros)
+  assert truncated.all() and not terminated.any()
+  start, reward, terminated, truncated, info = vec.step(zeros)
+  assert not (terminated | truncated).any() and (reward == 0).all()
+  assert (info["connections"] == 0).all()
+  assert not np.allclose(start["furniture/part_positions"], last["furniture/part_positions"])
+  np.testing.assert_array_equal(np.asarray(vec._state.task.steps), 0)
+  _, _, _, truncated, _ = vec.step(zeros)
+  assert not truncated.any()
+  np.testing.assert_array_equal(np.asarray(vec._state.task.steps), 1)
+
+
+def test_make_vec_for_an_arm_names_the_process_vectors():
+  import gymnasium
+  import ikea_suite.gym  # noqa: F401
+  with pytest.raises(ikea_suite.OptionValueError, match="vectorization_mode='async'"):
+    gymnasium.make_vec("ikea_suite/Assembly-v0", num_envs=2, robot="sawyer")

@@ -106,6 +106,6 @@ def test_two_cursors_cannot_hold_one_assembly(env):
 
 def test_cursor_observables(env):
   observation = env.step(helpers.idle_action(env)).observation
-  assert observation["cursor/cursor_positions"].shape == (2, 3)
-  np.testing.assert_allclose(np.linalg.norm(observation["cursor/cursor_quaternions"], axis=1), 1)
-  assert (observation["cursor/cursor_held_parts"] == -1).all()
+  assert observation["robot/tcp_positions"].shape == (2, 3)
+  np.testing.assert_allclose(np.linalg.norm(observation["robot/tcp_quaternions"], axis=1), 1)
+  assert (observation["robot/held_parts"] == -1).all()

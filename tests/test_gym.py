@@ -1,5 +1,7 @@
 """gymnasium adapter: check_env, spaces mirror the dm_env specs, termination, vector envs."""
 
+import subprocess
+import sys
 import warnings
 
 import gymnasium
@@ -11,11 +13,9 @@ import ikea_suite
 import ikea_suite.gym
 from ikea_suite.props import catalog
 
-# check_env warns that unbounded Boxes are "probably too low/high": the dm_env specs of
-# positions and quaternions are unbounded, and the spaces mirror them on purpose.
-_EXPECTED_WARNINGS = ("observation space minimum value is -infinity",
-                      "observation space maximum value is infinity",
-                      "Not able to test alternative render modes")
+# Every observation is bounded (ikea_suite.observations), so check_env warns of nothing but
+# the render modes it cannot try without a render_mode.
+_EXPECTED_WARNINGS = ("Not able to test alternative render modes",)
 REPRESENTATIVES = catalog.representatives()
 ARMS = [r for r in ikea_suite.robot_names() if r != "cursor"]
 # Every robot is checked: the Cursor on every category's representative, each arm on a
@@ -49,8 +49,8 @@ def test_make_gives_spaces_mirroring_specs_and_seeded_episodes(gl):
   first, info = env.reset(seed=3)
   assert info == {"connections": 0, "success": False, "blocked_connections": ()}
   same = ikea_suite.load("table_four_leg_lack", "cursor", seed=3).reset().observation
-  np.testing.assert_array_equal(first["table_four_leg_lack/part_positions"],
-                                same["table_four_leg_lack/part_positions"])
+  np.testing.assert_array_equal(first["furniture/part_positions"],
+                                same["furniture/part_positions"])
   env.close()
 
 
@@ -80,13 +80,64 @@ def test_bad_arguments_raise_suite_errors():
   env.close()
 
 
+def test_spaces_are_finite_with_float32_actions_and_a_step_limit():
+  env = gymnasium.make(ikea_suite.gym.ENV_ID, furniture="table_four_leg_lack", robot="cursor",
+                       time_limit=2.0)
+  assert env.action_space.dtype == np.float32
+  assert env.spec.max_episode_steps == env.unwrapped.suite_env.task.config.max_steps
+  for name, space in env.observation_space.items():
+    assert np.isfinite(space.low).all() and np.isfinite(space.high).all(), name
+  np.testing.assert_array_equal(env.observation_space["furniture/part_quaternions"].high, 1.0)
+  np.testing.assert_array_equal(env.observation_space["task/connections"].low, 0.0)
+  env.reset(seed=0)
+  steps, done = 0, False
+  while not done:
+    *_, terminated, truncated, _ = env.step(np.zeros(env.action_space.shape, np.float32))
+    steps, done = steps + 1, terminated or truncated
+  assert truncated and steps == env.spec.max_episode_steps
+  env.close()
+
+
+_FORK_SCRIPT = """
+import gymnasium, ikea_suite.gym, ikea_suite.errors
+if {render_first}:
+  env = gymnasium.make("ikea_suite/Assembly-v0", cameras=("front",), image_size=16)
+  env.reset(seed=0)
+envs = gymnasium.make_vec("ikea_suite/Assembly-v0", num_envs=2, vectorization_mode="async",
+                          vector_kwargs={{"context": "fork"}}, time_limit=1.0,
+                          cameras=("front",), image_size=16)
+try:
+  observations, _ = envs.reset(seed=0)
+except ikea_suite.errors.RenderAfterForkError as e:
+  print("RenderAfterForkError", e)
+else:
+  assert observations["cameras/front_rgb"].shape == (2, 16, 16, 3)
+  assert observations["cameras/front_rgb"].any()
+  print("rendered")
+envs.close()
+"""
+
+
+@pytest.mark.parametrize("render_first, expected", [(False, "rendered"),
+                                                    (True, "RenderAfterForkError")])
+def test_async_vector_env_with_cameras_under_fork(gl, render_first, expected):
+  # Fork, Linux's default start method, from a fresh interpreter (this one has rendered):
+  # the parent builds one env to read the spaces, which must not make a GL context. A parent
+  # that rendered itself gets an error naming the fix rather than workers that hang.
+  result = subprocess.run([sys.executable, "-c", _FORK_SCRIPT.format(render_first=render_first)],
+                          capture_output=True, text=True, timeout=300)
+  assert expected in result.stdout, result.stdout + result.stderr
+  if render_first:
+    assert "forkserver" in result.stdout
+
+
 def test_async_vector_env_steps_two_processes():
   envs = gymnasium.make_vec(ikea_suite.gym.ENV_ID, num_envs=2, vectorization_mode="async",
                             vector_kwargs={"context": "spawn"}, time_limit=1.0)
   observations, infos = envs.reset(seed=0)
-  assert observations["connections"].shape == (2, 5, 5)
-  assert not np.array_equal(observations["table_four_leg_lack/part_positions"][0],
-                            observations["table_four_leg_lack/part_positions"][1])
+  assert observations["task/connections"].shape == (2, 5, 5)
+  assert not np.array_equal(observations["furniture/part_positions"][0],
+                            observations["furniture/part_positions"][1])
   _, rewards, terminated, truncated, infos = envs.step(envs.action_space.sample())
   assert rewards.shape == (2,) and not terminated.any() and not truncated.any()
   assert list(infos["connections"]) == [0, 0]

@@ -26,12 +26,11 @@ def test_action_spec_per_mode(robot, mode):
   action[[i for i, n in enumerate(names) if n.endswith("gripper")]] = -1.0   # keep open
   for _ in range(3):
     timestep = env.step(action)
-  prefix = env.task.robot.mjcf_model.model
-  positions = timestep.observation[f"{prefix}/joint_positions"]
+  positions = timestep.observation["robot/joint_positions"]
   assert positions.shape == (arms * JOINT_COUNT[robot],) and np.all(np.isfinite(positions))
-  assert timestep.observation[f"{prefix}/tcp_positions"].shape == (arms, 3)
-  assert timestep.observation[f"{prefix}/tcp_quaternions"].shape == (arms, 4)
-  opening = timestep.observation[f"{prefix}/gripper_opening"]
+  assert timestep.observation["robot/tcp_positions"].shape == (arms, 3)
+  assert timestep.observation["robot/tcp_quaternions"].shape == (arms, 4)
+  opening = timestep.observation["robot/gripper_opening"]
   assert opening.shape == (arms,) and np.all(opening > 0.9)   # grippers start open
 
 
@@ -150,7 +149,7 @@ def test_joint_position_mode_tracks_targets():
   arm = env.task.robot
   low, high = arm.joint_limits(0)
   expected = (low + high) / 2 + action[:7] * (high - low) / 2
-  np.testing.assert_allclose(timestep.observation["sawyer/joint_positions"], expected, atol=0.02)
+  np.testing.assert_allclose(timestep.observation["robot/joint_positions"], expected, atol=0.02)
 
 
 def test_joint_torque_mode_moves_joint_in_torque_direction():
@@ -173,5 +172,5 @@ def test_wrist_camera_observable_on_request(gl):
                         camera_size=(32, 40))
   timestep = env.reset()
   for side in ("right", "left"):
-    image = timestep.observation[f"baxter/{side}_wrist_camera"]
+    image = timestep.observation[f"cameras/{side}_wrist_rgb"]
     assert image.shape == (32, 40, 3) and image.std() > 0

@@ -44,8 +44,8 @@ def test_aligned_pair_connects_welds_and_rewards(env):
   timestep = env.step(helpers.connect_action(env))
   assert timestep.reward == 1.0
   assert env.task.state.same_group(top, legs[0])
-  assert timestep.observation["connections"][top, legs[0]] == 1.0
-  assert sum(timestep.observation["connectors_used"]) == 2
+  assert timestep.observation["task/connections"][top, legs[0]] == 1.0
+  assert sum(timestep.observation["task/connectors_used"]) == 2
   assert env.task.welded_part_pairs(env.physics) == [tuple(sorted((top, legs[0])))]
   # Joined parts stop colliding with each other, not with the rest.
   physics = env.physics
@@ -147,12 +147,12 @@ def test_completion_pays_bonus_and_ends_episode(env):
   assert env.task.state.complete
   assert timestep.last() and timestep.discount == 0.0
   assert rewards == [1.0, 1.0, 1.0, 11.0]
-  assert (timestep.observation["next_pair"] == -1).all()
+  assert (timestep.observation["task/next_pair"] == -1).all()
 
 
 def test_next_pair_suggests_joining_the_root_group(env):
   observation = env.step(helpers.idle_action(env)).observation
-  moving, target = observation["next_pair"].astype(int)
+  moving, target = observation["task/next_pair"].astype(int)
   assert target == env.task.root_part == helpers.part_index(env, "top")
   assert env.task.furniture.spec.parts[moving].name.startswith("leg")
 

@@ -13,6 +13,9 @@ or divergence) is reset inside the same step with a fresh random placement:
 `reward`, `done` and `info["truncation"]` describe the step that ended, `obs`
 and `data` already the next episode's start (gymnasium's same-step
 autoreset), `info["final_obs"]` the last observation of the ended one.
+Observations carry the CPU environment's keys (ikea_suite.observations); the
+gymnasium vector env (gym_vector.py) gives them its dtypes and turns this into
+gymnasium's default next-step autoreset with `restart_batch`.
 """
 
 import functools
@@ -221,7 +224,9 @@ class BatchAssembly:
     fresh = self.reset(state.info["rng"])
     pick = lambda new, old: jax.tree.map(lambda x, y: jnp.where(done, x, y), new, old)
     # Data.where knows which Warp buffers are shared by all worlds (contacts) and keeps them.
-    connections = state.metrics["connections"] + connected.astype(jnp.int32)
+    # A world that ended last step is in its new episode: count from zero.
+    connections = (jnp.where(state.done, 0, state.metrics["connections"])
+                   + connected.astype(jnp.int32))
     return State(
         data=data.where(done, fresh.data), task=pick(fresh.task, task), obs=pick(fresh.obs, obs),
         reward=reward, done=done,
@@ -231,6 +236,28 @@ class BatchAssembly:
               "final_obs": obs})
 
   # -- many worlds -----------------------------------------------------------------
+
+  @functools.cached_property
+  def _restart_batch(self):
+    def restart(keep, fresh, stepped):
+      pick = lambda a, b: jax.tree.map(lambda x, y: jnp.where(keep, x, y), a, b)
+      shown = State(
+          data=fresh.data, task=fresh.task, obs=fresh.obs, reward=jnp.zeros_like(fresh.reward),
+          done=jnp.bool_(False),
+          metrics={"connections": jnp.int32(0), "success": jnp.bool_(False)},
+          info={"rng": fresh.info["rng"], "truncation": jnp.bool_(False),
+                "diverged": jnp.bool_(False), "final_obs": fresh.obs})
+      return State(data=fresh.data.where(keep, stepped.data),
+                   **{f: pick(getattr(shown, f), getattr(stepped, f))
+                      for f in State._fields if f != "data"})
+    return jax.jit(jax.vmap(restart))
+
+  def restart_batch(self, keep, fresh, stepped):
+    """Per world, the episode start `fresh` where `keep` (worlds,) is true (reward 0, not
+    done, nothing connected), else `stepped` (jitted): a vector env's next-step autoreset
+    shows the worlds that ended last step at the start their step then reset them to."""
+    with self.precision():
+      return self._restart_batch(jnp.asarray(keep), fresh, stepped)
 
   def reset_batch(self, rng, num_worlds):
     """`num_worlds` fresh worlds, each with its own key split from `rng` (jitted)."""

@@ -1,12 +1,19 @@
 """A gymnasium VectorEnv over the batched task: the `vector_entry_point` of ikea_suite/Assembly-v0.
 
-All worlds step in one jitted call on the device; observations come back as a
-dict of numpy arrays with a leading env axis, named as the batched task's
-(observe.observe). Episodes reset inside the step that ends them (gymnasium's
-SAME_STEP autoreset): that step returns the new episode's first observation
-and puts the ended episode's last one in info["final_obs"], with
-info["_final_obs"] marking the envs that reset.
+All worlds step in one jitted call on the device. Observations come back as a dict
+of numpy arrays with a leading env axis, under the CPU environment's keys and with
+its shapes, dtypes and bounds (ikea_suite.observations), so a policy moves between
+`gymnasium.make` and this env unchanged. Info holds the CPU env's `connections` and
+`success` per env, plus `diverged`; `blocked_connections` (the CPU task's reasons for
+a refused connect) is not computed on the device.
+
+Autoreset is gymnasium's default, NEXT_STEP: the step that ends an episode returns
+its last observation with terminated/truncated set; the next step() resets those
+envs (their actions are ignored) and returns the new episode's first observation,
+reward 0 and no termination.
 """
+
+import dataclasses
 
 import gymnasium
 import jax
@@ -14,11 +21,13 @@ import numpy as np
 from gymnasium.vector import AutoresetMode
 
 from ikea_suite import errors
+from ikea_suite import observations
 from ikea_suite.batch import env as env_lib
 
 
-def _box(shape, low=-np.inf, high=np.inf):
-  return gymnasium.spaces.Box(low=low, high=high, shape=shape, dtype=np.float32)
+def _box(spec):
+  return gymnasium.spaces.Box(low=spec.minimum, high=spec.maximum, shape=spec.shape,
+                              dtype=spec.dtype)
 
 
 class AssemblyVectorEnv(gymnasium.vector.VectorEnv):
@@ -30,49 +39,75 @@ class AssemblyVectorEnv(gymnasium.vector.VectorEnv):
     robot: only "cursor" (the batched task has no arms).
     impl: "warp", "jax" or None (see BatchAssembly).
     **options: ikea_suite.load's task options (batch.settings.OPTIONS).
+  Raises:
+    OptionValueError: another robot, or num_envs not an integer >= 1.
   """
 
-  metadata = {"autoreset_mode": AutoresetMode.SAME_STEP, "render_modes": []}
+  metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}
 
   def __init__(self, furniture="table_four_leg_lack", num_envs=1, robot="cursor", impl=None,
                **options):
     if robot != "cursor":
       raise errors.OptionValueError(
-          f"the batched environment supports robot 'cursor' only, got {robot!r}")
+          f"the batched environment supports robot 'cursor' only, got {robot!r}; for an arm "
+          f"use gymnasium.make_vec(..., vectorization_mode='async') (or 'sync')")
     if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
       raise errors.OptionValueError(f"num_envs must be an integer >= 1, got {num_envs!r}")
     self._env = env_lib.load(furniture, impl=impl, num_worlds=int(num_envs), **options)
     self.num_envs = int(num_envs)
-    p, c = self._env.num_parts, len(self._env.batch_model.table)
-    shapes = {"part_positions": (p, 3), "part_quaternions": (p, 4), "connections": (p, p),
-              "connectors_used": (c,), "next_pair": (2,), "cursor_positions": (2, 3),
-              "cursor_quaternions": (2, 4), "cursor_held_parts": (2,)}
+    num_parts = self._env.num_parts
+    with self._env.precision():
+      shapes = jax.eval_shape(self._env.reset, jax.random.PRNGKey(0)).obs
+    self._specs = {k: observations.spec(k, tuple(v.shape), num_parts)
+                   for k, v in sorted(shapes.items())}
     self.single_observation_space = gymnasium.spaces.Dict(
-        {k: _box(v) for k, v in shapes.items()})
-    self.observation_space = gymnasium.spaces.Dict(
-        {k: _box((self.num_envs,) + v) for k, v in shapes.items()})
+        {k: _box(s) for k, s in self._specs.items()})
+    self.observation_space = gymnasium.vector.utils.batch_space(
+        self.single_observation_space, self.num_envs)
     size = self._env.action_size
-    self.single_action_space = _box((size,), -1.0, 1.0)
-    self.action_space = _box((self.num_envs, size), -1.0, 1.0)
+    self.single_action_space = gymnasium.spaces.Box(-1.0, 1.0, (size,), np.float32)
+    self.action_space = gymnasium.vector.utils.batch_space(self.single_action_space,
+                                                           self.num_envs)
+    self._max_episode_steps = self._env.settings.max_steps
+    self._spec = None
     self._state = None
+    self._autoreset = np.zeros(self.num_envs, dtype=bool)
     self._rng = jax.random.PRNGKey(0)
+
+  @property
+  def spec(self):
+    """The registration spec, with `max_episode_steps` the task's time limit in steps."""
+    return self._spec
+
+  @spec.setter
+  def spec(self, value):
+    if value is not None:
+      value = dataclasses.replace(value, max_episode_steps=self._max_episode_steps)
+    self._spec = value
 
   @property
   def batch_env(self):
     """The underlying BatchAssembly."""
     return self._env
 
-  @staticmethod
-  def _numpy(obs):
-    return {k: np.asarray(v, dtype=np.float32) for k, v in obs.items()}
+  def _numpy(self, obs):
+    return {k: np.asarray(obs[k]).astype(s.dtype, copy=False) for k, s in self._specs.items()}
+
+  def _infos(self, state):
+    return {"connections": np.asarray(state.metrics["connections"], dtype=np.int64),
+            "success": np.asarray(state.metrics["success"]),
+            "diverged": np.asarray(state.info["diverged"])}
 
   def reset(self, *, seed=None, options=None):
-    """Resets every env; the same seed gives the same batch."""
+    """Resets every env; the same seed gives the same batch. Returns (obs, infos)."""
+    if options:
+      raise errors.UnknownNameError("reset option", next(iter(options)), ())
     if seed is not None:
       self._rng = jax.random.PRNGKey(int(seed))
     self._rng, key = jax.random.split(self._rng)
     self._state = self._env.reset_batch(key, self.num_envs)
-    return self._numpy(self._state.obs), {}
+    self._autoreset[:] = False
+    return self._numpy(self._state.obs), self._infos(self._state)
 
   def step(self, actions):
     """Steps every env; returns (obs, rewards, terminations, truncations, infos)."""
@@ -82,12 +117,15 @@ class AssemblyVectorEnv(gymnasium.vector.VectorEnv):
     if actions.shape != self.action_space.shape:
       raise errors.ActionError(
           f"actions must have shape {self.action_space.shape}, got {actions.shape}")
-    self._state = self._env.step_batch(self._state, actions)
-    s = self._state
-    done = np.asarray(s.done)
-    truncated = np.asarray(s.info["truncation"])
-    infos = {"final_obs": self._numpy(s.info["final_obs"]), "_final_obs": done,
-             "success": np.asarray(s.metrics["success"]),
-             "diverged": np.asarray(s.info["diverged"])}
-    return (self._numpy(s.obs), np.asarray(s.reward, dtype=np.float64), done & ~truncated,
-            truncated, infos)
+    previous = self._state
+    state = self._env.step_batch(previous, actions)
+    if self._autoreset.any():
+      # These worlds ended last step and were reset then: this step shows their start.
+      state = self._env.restart_batch(self._autoreset, previous, state)
+    self._state = state
+    done = np.asarray(state.done)
+    truncated = np.asarray(state.info["truncation"]) & done
+    self._autoreset = done.copy()
+    # The last observation of an ended episode (the others': their current one).
+    return (self._numpy(state.info["final_obs"]), np.asarray(state.reward, dtype=np.float64),
+            done & ~truncated, truncated, self._infos(state))

@@ -35,22 +35,23 @@ def next_pair(tables, state):
 
 
 def observe(tables, state, qpos):
-  """The state observations of one world (jax default float), keyed as the CPU environment's.
+  """The state observations of one world (jax default float), under the CPU environment's
+  vocabulary keys (ikea_suite.observations); the vector env gives them the CPU dtypes.
 
   Returns:
-    dict: part_positions (p, 3), part_quaternions (p, 4), connections (p, p),
-    connectors_used (c,), next_pair (2,), cursor_positions (2, 3),
-    cursor_quaternions (2, 4), cursor_held_parts (2,).
+    dict: furniture/part_positions (p, 3), furniture/part_quaternions (p, 4),
+    task/connections (p, p), task/connectors_used (c,), task/next_pair (2,),
+    robot/tcp_positions (2, 3), robot/tcp_quaternions (2, 4), robot/held_parts (2,).
   """
   pos, rot = task_state.part_poses(tables, qpos)
   f32 = rigid.real
   return {
-      "part_positions": f32(pos),
-      "part_quaternions": f32(rigid.mat_to_quat(rot)),
-      "connections": f32(state.adjacency),
-      "connectors_used": f32(state.connector_used),
-      "next_pair": f32(next_pair(tables, state)),
-      "cursor_positions": f32(state.cursor_pos),
-      "cursor_quaternions": f32(state.cursor_quat),
-      "cursor_held_parts": f32(state.held),
+      "furniture/part_positions": f32(pos),
+      "furniture/part_quaternions": f32(rigid.mat_to_quat(rot)),
+      "task/connections": f32(state.adjacency),
+      "task/connectors_used": f32(state.connector_used),
+      "task/next_pair": f32(next_pair(tables, state)),
+      "robot/tcp_positions": f32(state.cursor_pos),
+      "robot/tcp_quaternions": f32(state.cursor_quat),
+      "robot/held_parts": f32(state.held),
   }

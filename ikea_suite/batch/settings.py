@@ -7,7 +7,6 @@ defaults and checks; the physics time step is the model's (physics_settings).
 
 import dataclasses
 
-import numpy as np
 
 from ikea_suite import config
 from ikea_suite import errors
@@ -60,7 +59,6 @@ def resolve(num_parts, **options):
           grasp_margin=cursor.grasp_margin, workspace_low=tuple(cursor.workspace[0]),
           workspace_high=tuple(cursor.workspace[1])),
       control_timestep=task.control_timestep, substeps=task.substeps,
-      # dm_control ends the episode at the first step whose time reaches the limit.
-      max_steps=int(np.ceil(task.time_limit / task.control_timestep - 1e-9)),
+      max_steps=task.max_steps,
       connection_reward=task.connection_reward, completion_bonus=task.completion_bonus,
       spread=task.spread, yaw_range=task.yaw_range, task=task, cursor_config=cursor)

@@ -6,7 +6,13 @@
 
 Needs the `gym` extra (`pip install "ikea_suite[gym]"`). The time limit is
 the suite's own (`time_limit` option), reported as `truncated`; no gymnasium
-TimeLimit wrapper is added.
+TimeLimit wrapper is added, and `env.spec.max_episode_steps` is that limit in steps.
+
+    envs = gymnasium.make_vec("ikea_suite/Assembly-v0", num_envs=1024,
+                              vectorization_mode="vector_entry_point")
+
+gives the batched environment (ikea_suite.batch, MJX; the `batch` or `gpu` extra), with
+the same observation keys, shapes, dtypes and info keys as the CPU environment.
 """
 
 import gymnasium
@@ -17,6 +23,7 @@ from ikea_suite.gym.env import ResetNeeded
 ENV_ID = "ikea_suite/Assembly-v0"
 
 if ENV_ID not in gymnasium.registry:
-  gymnasium.register(id=ENV_ID, entry_point="ikea_suite.gym.env:AssemblyEnv")
+  gymnasium.register(id=ENV_ID, entry_point="ikea_suite.gym.env:AssemblyEnv",
+                     vector_entry_point="ikea_suite.batch:make_vector_env")
 
 __all__ = ["AssemblyEnv", "ENV_ID", "ResetNeeded"]

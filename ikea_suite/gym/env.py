@@ -15,6 +15,7 @@ mirrors its specs as spaces (`spaces.py`) and translates time steps.
   `render_camera` at `render_size`.
 """
 
+import dataclasses
 from typing import Any
 
 import dm_env
@@ -25,6 +26,7 @@ import ikea_suite
 from ikea_suite import config
 from ikea_suite import errors
 from ikea_suite.gym import spaces as spaces_lib
+from ikea_suite.tasks import cameras
 
 RENDER_MODES = ("rgb_array",)
 
@@ -75,8 +77,23 @@ class AssemblyEnv(gymnasium.Env):
     buffer.offheight, buffer.offwidth = max(buffer.offheight, height), max(buffer.offwidth, width)
     self.metadata = dict(self.metadata, render_fps=round(1.0 / self._env.control_timestep()))
     self.observation_space = spaces_lib.dict_from_specs(self._env.observation_spec())
-    self.action_space = spaces_lib.box_from_spec(self._env.action_spec())
+    # float32, as learners send them; step() widens to the suite's float64 exactly.
+    self.action_space = spaces_lib.box_from_spec(self._env.action_spec(), dtype=np.float32)
+    self._max_episode_steps = self._env.task.config.max_steps
+    self._spec = None
     self._needs_reset = True
+
+  @property
+  def spec(self) -> gymnasium.envs.registration.EnvSpec | None:
+    """The registration spec, with `max_episode_steps` the suite's own time limit in control
+    steps for these options (no TimeLimit wrapper: the suite truncates)."""
+    return self._spec
+
+  @spec.setter
+  def spec(self, value: gymnasium.envs.registration.EnvSpec | None) -> None:
+    if value is not None:
+      value = dataclasses.replace(value, max_episode_steps=self._max_episode_steps)
+    self._spec = value
 
   @property
   def suite_env(self) -> ikea_suite.environment.Environment:
@@ -84,7 +101,9 @@ class AssemblyEnv(gymnasium.Env):
     return self._env
 
   def _observation(self, timestep: dm_env.TimeStep) -> dict[str, np.ndarray]:
-    return {name: np.array(value) for name, value in timestep.observation.items()}
+    # Each value is already the caller's own array (composer's buffers copy on read; the
+    # environment's direct readers give fresh arrays), so none is copied again.
+    return {name: np.asarray(value) for name, value in timestep.observation.items()}
 
   def _info(self) -> dict[str, Any]:
     task = self._env.task
@@ -144,6 +163,7 @@ class AssemblyEnv(gymnasium.Env):
     if self.render_mode is None:
       return None
     height, width = self._render_size
+    cameras.claim_gl()
     return self._env.physics.render(height, width, camera_id=self._render_camera)
 
   def close(self) -> None:

@@ -22,16 +22,17 @@ def _dtype_limits(dtype: np.dtype) -> tuple[float, float]:
   return -np.inf, np.inf
 
 
-def box_from_spec(spec: specs.Array) -> spaces.Box:
+def box_from_spec(spec: specs.Array, dtype: np.dtype | None = None) -> spaces.Box:
   """The gymnasium Box with the spec's shape, dtype and (if bounded) bounds.
 
   Args:
     spec: a dm_env `Array` or `BoundedArray`.
+    dtype: the Box's dtype instead of the spec's (float32 actions of a float64 spec).
 
   Returns:
     A `gymnasium.spaces.Box` that contains every array `spec.validate` accepts.
   """
-  dtype = np.dtype(spec.dtype)
+  dtype = np.dtype(spec.dtype if dtype is None else dtype)
   if isinstance(spec, specs.BoundedArray):
     low = np.broadcast_to(spec.minimum, spec.shape).astype(dtype)
     high = np.broadcast_to(spec.maximum, spec.shape).astype(dtype)

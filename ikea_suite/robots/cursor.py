@@ -236,14 +236,15 @@ class Cursor(base.Robot):
 class CursorObservables(composer.Observables):
   """Cursor positions, orientations and the part each holds (-1 for none)."""
 
+  # Named as every robot's tool pose (observations.py): the cursor is the Cursor's tool.
   @composer.observable
-  def cursor_positions(self):
+  def tcp_positions(self):
     return mujoco_arrays.FreshGeneric(self._entity.cursor_positions)
 
   @composer.observable
-  def cursor_quaternions(self):
+  def tcp_quaternions(self):
     return mujoco_arrays.FreshGeneric(self._entity.cursor_quaternions)
 
   @composer.observable
-  def cursor_held_parts(self):
+  def held_parts(self):
     return mujoco_arrays.FreshGeneric(lambda physics: self._entity.held_parts.astype(np.float64))

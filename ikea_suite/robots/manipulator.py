@@ -126,6 +126,7 @@ class Manipulator(base.Robot):
     self._base_rot_floats = self._base_rot.reshape(9).tolist()
     self._dt = 0.05   # the control step (s), which bounds each IK step's joint speeds
     self._wrist_camera, self._camera_size = bool(wrist_camera), tuple(camera_size)
+    self._episodes_started = False
 
   def _build_body(self, name):
     """Returns (mjcf root, [Arm]) of the robot without arm actuators."""
@@ -300,7 +301,13 @@ class Manipulator(base.Robot):
     return [(self._base_rot @ p + self._base_pos, self._base_rot @ r)
             for p, r in self._ik.tcp_poses(self._home_q)]
 
+  @property
+  def episodes_started(self):
+    """Whether an episode has begun (the wrist cameras render only from then on)."""
+    return self._episodes_started
+
   def initialize_episode(self, physics, random_state):
+    self._episodes_started = True
     data = physics.data
     data.qpos[self._ik_to_qpos] = self._home_q
     data.qvel[self._ik_to_dof] = 0.0
@@ -457,6 +464,22 @@ class Manipulator(base.Robot):
     return self._arrays(physics).qvel[self._arm_dof_rows].copy()
 
 
+class _WristCamera(observable.MJCFCamera):
+  """MJCFCamera that shows black until the robot's first episode: composer reads every
+  observable once when the environment is built and drops the values at reset, and
+  rendering then would make an OpenGL context in a process that may fork next
+  (gymnasium's AsyncVectorEnv), whose children could not render (tasks/cameras.py)."""
+
+  def __init__(self, entity, *args, **kwargs):
+    super().__init__(*args, **kwargs)
+    self._entity = entity
+
+  def _callable(self, physics):
+    render = super()._callable(physics)
+    blank = np.zeros(self.array_spec.shape, self.array_spec.dtype)
+    return lambda: render() if self._entity.episodes_started else blank
+
+
 class ManipulatorObservables(composer.Observables):
   """Arm joint positions and velocities, tool poses, gripper openings; wrist cameras on request."""
 
@@ -465,8 +488,9 @@ class ManipulatorObservables(composer.Observables):
     if entity.wrist_camera_size is not None:
       height, width = entity.wrist_camera_size
       for arm in entity.arms:
-        self.add_observable(f"{arm.prefix}wrist_camera",
-                            observable.MJCFCamera(arm.camera, height=height, width=width))
+        # An image: the task files it under cameras/ as `<camera>_rgb` (observations.py).
+        self.add_observable(f"{arm.prefix}wrist_rgb",
+                            _WristCamera(entity, arm.camera, height=height, width=width))
 
   @composer.observable
   def joint_positions(self):

@@ -1,8 +1,11 @@
 """The assembly task: connect every part of a furniture into one rigid assembly."""
 
 
+import collections
+
 import numpy as np
 from dm_control import composer
+from dm_control.composer.observation import observable as observable_lib
 from dm_control.composer.variation import distributions
 from dm_env import specs
 
@@ -10,6 +13,7 @@ from ikea_suite import config as config_lib
 from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite import mujoco_arrays
+from ikea_suite import observations
 from ikea_suite import physics_settings
 from ikea_suite.assembly import sequence
 from ikea_suite.tasks import alignment
@@ -114,6 +118,37 @@ class Assembly(composer.Task):
   @property
   def task_observables(self):
     return self._task_observables
+
+  @property
+  def observables(self):
+    """Every observable under its vocabulary key (observations.py), never the furniture's or
+    the robot's model name: `furniture/`, `task/`, `robot/`, `cameras/` (any image)."""
+    robot_entities = set(map(id, self._robot.iter_entities()))
+    named = collections.OrderedDict(
+        (observations.key("task", name), obs) for name, obs in self._task_observables.items())
+    for entity in self.root_entity.iter_entities():
+      if entity is self._furniture:
+        prefix = "furniture/"
+      elif entity is self._robot:
+        prefix = "robot/"
+      elif id(entity) in robot_entities:   # a robot's own parts (dm_control's Jaco hand)
+        prefix = f"robot/{entity.mjcf_model.model}/"
+      elif entity.mjcf_model.model == "cameras":
+        prefix = "cameras/"
+      else:   # composer's naming for entities that give none by default (arena, props)
+        identifier = entity.mjcf_model.full_identifier
+        prefix = f"{identifier}/" if identifier else ""
+      for name, obs in entity.observables.as_dict(fully_qualified=False).items():
+        if isinstance(obs, observable_lib.MJCFCamera):
+          full = observations.key("cameras", name)
+        else:
+          full = prefix + name
+        if full in named:
+          raise errors.IkeaSuiteError(
+              f"two observations are named {full!r}: choose the camera once (cameras= or "
+              f"wrist_camera=)")
+        named[full] = obs
+    return named
 
   @property
   def action_names(self):

@@ -133,7 +133,18 @@ class CameraRig(composer.Entity):
           physics, self._height, self._width, self._camera_ids[name], self._labels)
     return self._renderers[name]
 
+  def _blank(self):
+    """What each output shows before the first episode: composer reads every observable once
+    when the environment is built and drops the values at reset. Rendering then would make
+    an OpenGL context in a process that may fork next (gymnasium's AsyncVectorEnv builds an
+    environment in the parent to read its spaces), and a forked child cannot use the GL
+    driver state it inherits: its first context waits forever."""
+    return {kind: np.zeros(self._spec(kind).shape, self._spec(kind).dtype)
+            for kind in self._kinds}
+
   def _frame(self, physics, name):
+    if self._episode == 0:
+      return self._blank()
     key = (self._episode, float(physics.data.time))
     if key != self._frames_key:
       self._frames, self._frames_key = {}, key
@@ -142,6 +153,8 @@ class CameraRig(composer.Entity):
     return self._frames[name]
 
   def _goal_frame(self, physics, name):
+    if self._episode == 0:
+      return self._blank()
     if self._goal_episode != self._episode:
       self._goal_frames = self.render_assembled(physics)
       self._goal_episode = self._episode

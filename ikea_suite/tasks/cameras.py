@@ -4,13 +4,40 @@ The kinds are config.IMAGE_KINDS. Segmentation pixels hold labels, not MuJoCo id
 k (0..n-1), and the rest of the scene uses the negative ids below.
 """
 
+import os
+
 import mujoco
 import numpy as np
 from dm_control.mujoco import engine
 
+from ikea_suite import errors
+
 BACKGROUND_ID = -1   # sky, backdrop walls, anything that is not floor, robot or a part
 FLOOR_ID = -2        # the arena's floor plane
 ROBOT_ID = -3        # every geom of the robot entity (and entities attached to it)
+
+
+# The process in which the suite first rendered. A process forked from it inherits the GL
+# driver's state without the driver's threads, and the first context it makes then waits
+# forever (EGL and OSMesa with Mesa's llvmpipe, seen with gymnasium's AsyncVectorEnv).
+_GL_PROCESS = None
+
+
+def claim_gl() -> None:
+  """Call before making an OpenGL context: records this process as one that renders.
+
+  Raises:
+    RenderAfterForkError: this process was forked from one that had rendered already.
+  """
+  global _GL_PROCESS
+  pid = os.getpid()
+  if _GL_PROCESS is not None and _GL_PROCESS != pid:
+    raise errors.RenderAfterForkError(
+        f"this process (pid {pid}) was forked after process {_GL_PROCESS} rendered, and "
+        f"OpenGL cannot render in it: start vector env workers with the 'spawn' or "
+        f"'forkserver' start method (gymnasium.make_vec(..., vectorization_mode='async', "
+        f"vector_kwargs={{'context': 'forkserver'}})), or fork before rendering")
+  _GL_PROCESS = pid
 
 
 def segmentation_labels(physics, furniture, robot, floor):
@@ -39,6 +66,7 @@ class MultiKindCamera(engine.Camera):
   """
 
   def __init__(self, physics, height, width, camera_id, geom_labels):
+    claim_gl()
     super().__init__(physics, height=height, width=width, camera_id=camera_id)
     self._geom_labels = geom_labels
 
