@@ -275,15 +275,15 @@ def grippers() -> str:
 
 
 def observations() -> str:
-  """Observation keys, shapes and dtypes of the Cursor and a Sawyer on the Lack table."""
-  import ikea_suite
+  """The observation vocabulary as the Cursor and a Sawyer on the Lack table give it: key,
+  shape, dtype, unit and meaning, from observations.vocabulary_rows (observations)."""
+  from ikea_suite import observations as vocabulary
   rows = []
   for robot in ("cursor", "sawyer"):
-    env = ikea_suite.load("table_four_leg_lack", robot, seed=0)
-    for key, spec in env.observation_spec().items():
-      rows.append([robot, f"`{key}`", str(tuple(spec.shape)), str(spec.dtype)])
-    env.close()
-  return markdown_table(["robot", "key", "shape", "dtype"], rows)
+    for key, shape, dtype, unit, meaning in vocabulary.vocabulary_rows(
+        robot, "table_four_leg_lack", seed=0):
+      rows.append([robot, f"`{key}`", shape, dtype, unit, _cell(meaning)])
+  return markdown_table(["robot", "key", "shape", "dtype", "unit", "meaning"], rows)
 
 
 def physics_settings() -> str:
