@@ -30,7 +30,8 @@ def export(tmp_path_factory, gl):
   root = tmp_path_factory.mktemp("interop")
   path = str(root / "demos.hdf5")
   assert collect.main(["--episodes", "2", "--out", path, "--cameras", "front", "--image-size",
-                       "32", "--workers", "1", "--time-limit", "1.5", "--seed", "5"]) == 0
+                       "32", "--workers", "1", "--time-limit", "1.5", "--seed", "5",
+                       "--keep-failures"]) == 0
   # The collect's render contexts are freed here, on this thread, not whenever a
   # collection happens to run on one of the datasets library's threads (EGL refuses that).
   gc.collect()

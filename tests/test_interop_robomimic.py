@@ -33,7 +33,8 @@ def demo_file(tmp_path_factory, gl):
   """Two short oracle demos with 16-pixel front images."""
   path = str(tmp_path_factory.mktemp("robomimic") / "demos.hdf5")
   assert collect.main(["--episodes", "2", "--out", path, "--cameras", "front", "--image-size",
-                       "16", "--workers", "1", "--time-limit", "1.5", "--seed", "5"]) == 0
+                       "16", "--workers", "1", "--time-limit", "1.5", "--seed", "5",
+                       "--keep-failures"]) == 0
   return path
 
 
