@@ -25,7 +25,7 @@ PANEL_RATIO = 0.26   # a bench's 20 x 80 mm stretcher (a quarter) is a panel
 MIN_HEIGHT = 0.035
 # The rack stands where its farthest slot lies this far (m) within the arm's reach: the
 # fingers close only within 1.5 mm of a panel's edge, which the Panda, stretched to its
-# 0.8 m reach, did not attain (fresh seeds 14005 and 14010: every box failed there).
+# 0.8 m reach, did not attain (every box failed in two episodes with the rack farther out).
 RACK_SPARE = 0.1
 # A panel that hangs this far (m) below the root lying as placed (a chair's back under
 # its upside-down seat) goes in once the expert has turned the assembly over
