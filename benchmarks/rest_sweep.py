@@ -37,7 +37,7 @@ def main(argv=None):
   models = args.models or ikea_suite.furniture_names()
   worst, failed, runs = (0.0, None), 0, 0
   for robot in args.robots:
-    scale = args.scale or registry.get(robot).factory.WORK_SCALE
+    scale = args.scale or registry.get(robot).factory.CONFIG.WORK_SCALE
     options = {"arena": args.arena} if args.arena else {}
     for name in models:
       for seed in args.seeds:

@@ -31,7 +31,7 @@ FAMILY_SAMPLE = [max(sorted(n for n in catalog.names(category=c) if catalog.entr
 
 
 def _check_at_rest(name, robot, seed):
-  scale = registry.get(robot).factory.WORK_SCALE
+  scale = registry.get(robot).factory.CONFIG.WORK_SCALE
   env = ikea_suite.load(name, robot, seed=seed, scale=scale)
   motion = resting.start_motion(env, seconds=2.0)
   env.close()
