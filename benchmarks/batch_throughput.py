@@ -5,7 +5,9 @@ An env step is the CPU environment's step: the cursors act, connect is tried
 same 25 physics substeps; state observations are computed every step. For
 each furniture: the CPU env's steps/s in one process (ikea_suite.load), then
 the batched env's steps/s at each world count, after one untimed step that
-compiles it. Prints the device and MJX implementation.
+compiles it, and the world-steps whose Warp contact or constraint buffers
+overflowed (contact_buffers; always 0 on MJX's JAX implementation). Prints the
+device and MJX implementation.
 
   python benchmarks/batch_throughput.py [--worlds 1024 4096 16384 65536] [--steps 20]
       [--furniture table_four_leg_lack chair_back_ivar bed_slatted_kids_birch_open]
@@ -43,8 +45,11 @@ def cpu_rate(name, steps):
 
 
 def batch_rate(env, worlds, steps):
-  """(steps/s summed over worlds, compile s) of env.step_batch at `worlds` worlds."""
+  """(steps/s summed over worlds, compile s, overflowed world-steps) of env.step_batch at
+  `worlds` worlds."""
   state = env.reset_batch(jax.random.PRNGKey(0), worlds)
+  env.overflow_watch.flush()
+  before = env.overflow_watch.total
   with env.precision():
     actions = jax.random.uniform(jax.random.PRNGKey(1), (worlds, env.action_size),
                                  minval=-1.0, maxval=1.0).at[:, -1].set(-1.0)
@@ -56,7 +61,9 @@ def batch_rate(env, worlds, steps):
   for _ in range(steps):
     state = env.step_batch(state, actions)
   jax.block_until_ready(state)
-  return worlds * steps / (time.perf_counter() - start), compile_s
+  rate = worlds * steps / (time.perf_counter() - start)
+  env.overflow_watch.flush()
+  return rate, compile_s, env.overflow_watch.total - before
 
 
 def main():
@@ -73,7 +80,8 @@ def main():
   impl = backend.check_impl(args.impl)
   print(f"device: {device.platform} {getattr(device, 'device_kind', '')}; MJX impl: {impl}; "
         f"physics substeps per env step: 25")
-  header = f"{'furniture':32s} {'worlds':>7s} {'env steps/s':>12s} {'x CPU env':>9s} {'compile s':>9s}"
+  header = (f"{'furniture':32s} {'worlds':>7s} {'env steps/s':>12s} {'x CPU env':>9s} "
+            f"{'compile s':>9s} {'overflow':>8s}")
   print(header)
   print("-" * len(header))
   for name in args.furniture:
@@ -81,9 +89,9 @@ def main():
     print(f"{name:32s} {'CPU env':>7s} {single:12.0f} {1.0:9.2f} {'':>9s}", flush=True)
     for worlds in args.worlds:
       env = env_lib.load(name, impl=impl, num_worlds=worlds)
-      rate, compile_s = batch_rate(env, worlds, args.steps)
-      print(f"{name:32s} {worlds:7d} {rate:12.0f} {rate / single:9.2f} {compile_s:9.1f}",
-            flush=True)
+      rate, compile_s, overflow = batch_rate(env, worlds, args.steps)
+      print(f"{name:32s} {worlds:7d} {rate:12.0f} {rate / single:9.2f} {compile_s:9.1f} "
+            f"{overflow:8d}", flush=True)
 
 
 if __name__ == "__main__":

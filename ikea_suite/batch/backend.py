@@ -3,9 +3,11 @@
 import importlib.util
 
 import jax
+import jax.numpy as jnp
 from mujoco import mjx
 
 from ikea_suite import errors
+from ikea_suite.batch import contact_buffers
 
 IMPLS = ("warp", "jax")
 
@@ -28,16 +30,16 @@ def check_impl(impl):
   return impl
 
 
-def put(model, impl, num_parts, num_welds, contacts_per_world=None, num_worlds=None):
+def put(model, impl, sizing, num_worlds=None):
   """(mjx.Model, one world's mjx.Data) on the default device.
 
   Args:
     model: the compiled mujoco.MjModel.
     impl: "warp" or "jax".
-    num_parts: parts of the furniture (sizes the Warp constraint buffers).
-    num_welds: part welds declared.
-    contacts_per_world: Warp contact capacity per world (default 8 per part geom).
-    num_worlds: worlds that will step together (Warp sizes its contact buffer for all).
+    sizing: contact_buffers.Sizing of the model (Warp's per-world nconmax and njmax; unused,
+      may be None, for jax).
+    num_worlds: worlds that will step together (Warp's contact buffer holds all of them:
+      naconmax = nconmax * num_worlds).
 
   Returns:
     The device model and a single world's initial data (vmap or broadcast it to batch).
@@ -45,14 +47,30 @@ def put(model, impl, num_parts, num_welds, contacts_per_world=None, num_worlds=N
   mx = mjx.put_model(model, impl=impl)
   if impl == "jax":
     return mx, mjx.make_data(model, impl=impl)
-  contacts = contacts_per_world or 8 * model.ngeom
-  # Rows: contacts (elliptic cones: up to 6 rows each), both grips and every part weld that
-  # can be on at once (at most one per part pair plus loop closures), 6 rows per weld.
-  njmax = 6 * contacts + 6 * (2 + min(num_welds, num_parts * (num_parts - 1) // 2))
-  data = mjx.make_data(model, impl=impl, naconmax=contacts * (num_worlds or 1), njmax=njmax)
+  data = mjx.make_data(model, impl=impl, naconmax=sizing.naconmax(num_worlds),
+                       njmax=sizing.njmax)
   return mx, data
 
 
 def substeps(mx, data, count):
   """`count` physics steps of one world (vmap for many)."""
   return jax.lax.fori_loop(0, count, lambda _, d: mjx.step(mx, d), data)
+
+
+def substeps_watched(mx, data, count):
+  """`count` physics steps of one world (vmap for many), with the Warp buffers' demand.
+
+  Returns:
+    (data, overflow, peak): overflow the int32 word of the buffers that overflowed in any of
+    the substeps (contact_buffers.OVERFLOW_BUFFERS bits; 0 on MJX's JAX implementation), peak
+    (2,) int32 the most contacts or broadphase candidates of all worlds and constraint rows of
+    this world that a substep needed.
+  """
+  def body(_, carry):
+    d, seen = carry
+    d = mjx.step(mx, d)
+    return d, contact_buffers.worse(seen, contact_buffers.demand(d))
+  data = contact_buffers.cleared(data)
+  nothing = (jnp.int32(0), jnp.zeros(2, dtype=jnp.int32))
+  data, (overflow, peak) = jax.lax.fori_loop(0, count, body, (data, nothing))
+  return data, overflow, peak

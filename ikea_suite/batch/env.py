@@ -28,6 +28,7 @@ import numpy as np
 from ikea_suite import errors
 from ikea_suite.batch import backend
 from ikea_suite.batch import connect as connect_lib
+from ikea_suite.batch import contact_buffers
 from ikea_suite.batch import cursor as cursor_lib
 from ikea_suite.batch import model as model_lib
 from ikea_suite.batch import observe
@@ -53,7 +54,11 @@ class State(typing.NamedTuple):
     reward: reward of the last step.
     done: bool, the last step ended the episode.
     metrics: dict: connections (made this episode), success (last step completed).
-    info: dict: rng (the world's key), truncation (time limit), diverged, final_obs.
+    info: dict: rng (the world's key), truncation (time limit), diverged, final_obs,
+      contact_overflow (int32: contact_buffers.OVERFLOW_BUFFERS bits of the Warp buffers that
+      overflowed during the step; always 0 on MJX's JAX implementation, which has no fixed
+      buffers), buffer_peak ((2,) int32: most contacts of all worlds and rows of this world
+      a substep needed; zeros on JAX).
   """
   data: typing.Any
   task: task_state.TaskState
@@ -72,12 +77,15 @@ class BatchAssembly:
     impl: "warp" (MJX Warp, CUDA GPU) or "jax" (MJX's JAX implementation); default: warp
       when a GPU and warp-lang are present, else jax.
     num_worlds: worlds stepped together (sizes Warp's shared contact buffer; unused by jax).
+    buffer_sizes: (nconmax, njmax) per world for Warp instead of the measured sizing
+      (contact_buffers.sizing).
     **options: load()'s task options (settings.OPTIONS).
   """
 
-  def __init__(self, furniture, impl=None, num_worlds=None, **options):
+  def __init__(self, furniture, impl=None, num_worlds=None, buffer_sizes=None, **options):
     self._impl = backend.check_impl(impl)
     self._num_worlds = num_worlds
+    self._buffer_sizes = buffer_sizes
     self._batch_model = model_lib.build(furniture)
     with self.precision():
       self._build(num_worlds, options)
@@ -88,8 +96,9 @@ class BatchAssembly:
     self._tables = tables_lib.build(bm)
     self._scatter = placement.scatter(bm.spec, spread=self._settings.spread,
                                       yaw_range=self._settings.yaw_range)
-    self._mx, self._data0 = backend.put(bm.model, self._impl, bm.num_parts, bm.welds.num_welds,
-                                        num_worlds=num_worlds)
+    sizing = self.buffer_sizing if self._impl == "warp" else None   # JAX: no fixed buffers
+    self._mx, self._data0 = backend.put(bm.model, self._impl, sizing, num_worlds=num_worlds)
+    self.overflow_watch = contact_buffers.OverflowWatch(sizing, num_worlds)
     self._home = rigid.real(cpu_cursor.HOME_POSITIONS)
     self._reset_batch = jax.jit(jax.vmap(self.reset))
     self._step_batch = jax.jit(jax.vmap(self.step))
@@ -106,6 +115,13 @@ class BatchAssembly:
     return jax.enable_x64(self._impl == "jax")
 
   # -- description ---------------------------------------------------------------
+
+  @functools.cached_property
+  def buffer_sizing(self):
+    """contact_buffers.Sizing of Warp's contact and constraint buffers for this model."""
+    if self._buffer_sizes is not None:
+      return contact_buffers.given(self._buffer_sizes)
+    return contact_buffers.sizing(self._batch_model, cpu_cursor.NUM_CURSORS)
 
   @property
   def impl(self):
@@ -186,7 +202,9 @@ class BatchAssembly:
     return State(data=data, task=task, obs=obs, reward=rigid.real(0.0), done=jnp.bool_(False),
                  metrics={"connections": jnp.int32(0), "success": jnp.bool_(False)},
                  info={"rng": rng, "truncation": jnp.bool_(False),
-                       "diverged": jnp.bool_(False), "final_obs": obs})
+                       "diverged": jnp.bool_(False), "final_obs": obs,
+                       "contact_overflow": jnp.int32(0),
+                       "buffer_peak": jnp.zeros(2, dtype=jnp.int32)})
 
   def step(self, state, action):
     """One control step of one world, with auto-reset when the episode ends.
@@ -210,7 +228,7 @@ class BatchAssembly:
     mocap_pos, mocap_quat = cursor_lib.grip_targets(task, mocap_pos, mocap_quat)
     data = data.replace(qpos=qpos, qvel=qvel, eq_active=eq_active, mocap_pos=mocap_pos,
                         mocap_quat=mocap_quat)
-    data = backend.substeps(self._mx, data, s.substeps)
+    data, overflow, peak = backend.substeps_watched(self._mx, data, s.substeps)
     task = task._replace(steps=task.steps + 1)
     complete = task_state.complete(task)
     diverged = ~(jnp.isfinite(data.qpos).all() & jnp.isfinite(data.qvel).all()
@@ -233,7 +251,7 @@ class BatchAssembly:
         metrics={"connections": connections, "success": complete},
         info={"rng": jnp.where(done, fresh.info["rng"], state.info["rng"]),
               "truncation": timeout & ~complete & ~diverged, "diverged": diverged,
-              "final_obs": obs})
+              "final_obs": obs, "contact_overflow": overflow, "buffer_peak": peak})
 
   # -- many worlds -----------------------------------------------------------------
 
@@ -246,7 +264,9 @@ class BatchAssembly:
           done=jnp.bool_(False),
           metrics={"connections": jnp.int32(0), "success": jnp.bool_(False)},
           info={"rng": fresh.info["rng"], "truncation": jnp.bool_(False),
-                "diverged": jnp.bool_(False), "final_obs": fresh.obs})
+                "diverged": jnp.bool_(False), "final_obs": fresh.obs,
+                "contact_overflow": stepped.info["contact_overflow"],
+                "buffer_peak": stepped.info["buffer_peak"]})
       return State(data=fresh.data.where(keep, stepped.data),
                    **{f: pick(getattr(shown, f), getattr(stepped, f))
                       for f in State._fields if f != "data"})
@@ -272,20 +292,25 @@ class BatchAssembly:
 
   def step_batch(self, state, actions):
     """One step of every world: actions (worlds, 15) (jitted, vmapped `step`); raises
-    ActionError for another shape."""
+    ActionError for another shape. `overflow_watch` reads the step's buffer overflows (while
+    the next step runs) and warns naming the buffer."""
     expected = (state.reward.shape[0], self.action_size)
     if tuple(np.shape(actions)) != expected:
       raise errors.ActionError(f"actions must have shape {expected}, got {np.shape(actions)}")
     with self.precision():
-      return self._step_batch(state, actions)
+      state = self._step_batch(state, actions)
+    self.overflow_watch.watch(state.info["contact_overflow"], state.info["buffer_peak"])
+    return state
 
 
 @functools.lru_cache(maxsize=8)
-def _cached(furniture, impl, num_worlds, options):
-  return BatchAssembly(furniture, impl=impl, num_worlds=num_worlds, **dict(options))
+def _cached(furniture, impl, num_worlds, buffer_sizes, options):
+  return BatchAssembly(furniture, impl=impl, num_worlds=num_worlds, buffer_sizes=buffer_sizes,
+                       **dict(options))
 
 
-def load(furniture="table_four_leg_lack", impl=None, num_worlds=None, **options):
+def load(furniture="table_four_leg_lack", impl=None, num_worlds=None, buffer_sizes=None,
+         **options):
   """The batched assembly environment of `furniture` (cached: equal arguments return the same
   object, so its jitted functions compile once per process).
 
@@ -293,6 +318,7 @@ def load(furniture="table_four_leg_lack", impl=None, num_worlds=None, **options)
     furniture: catalog name or model file path.
     impl: "warp", "jax" or None (warp on a GPU with warp-lang, else jax).
     num_worlds: worlds to be stepped together (Warp buffer sizing).
+    buffer_sizes: (nconmax, njmax) per world for Warp instead of the measured sizing.
     **options: ikea_suite.load's task options, see settings.OPTIONS.
 
   Returns:
@@ -303,4 +329,7 @@ def load(furniture="table_four_leg_lack", impl=None, num_worlds=None, **options)
     num_worlds = None   # only Warp sizes buffers by it; one cached env serves every size
   key = tuple(sorted((k, tuple(map(tuple, v)) if k == "workspace" else v)
                      for k, v in options.items()))
-  return _cached(furniture, impl, num_worlds, key)
+  if buffer_sizes is not None:   # checked here, and hashable for the cache
+    sizes = contact_buffers.given(buffer_sizes)
+    buffer_sizes = (sizes.nconmax, sizes.njmax)
+  return _cached(furniture, impl, num_worlds, buffer_sizes, key)
