@@ -124,7 +124,7 @@ class BatchArmAssembly:
     self._num_worlds = num_worlds
     self._robot = robot
     self._arm = am = arm_model.build(furniture, robot, layouts=layouts,
-                                     prisms=self._impl == "jax", **options)
+                                     light=self._impl == "jax", **options)
     config = am.task_config
     self._settings = Settings(
         thresholds=alignment.Thresholds.of(config), control_timestep=config.control_timestep,
@@ -301,6 +301,16 @@ class BatchArmAssembly:
     Returns:
       The next State.
     """
+    data, task, targets, connected = self.before_physics(state, action)
+    data = backend.substeps(self._mx, data, self._settings.substeps)
+    return self.after_physics(state, data, task, targets, connected)
+
+  def before_physics(self, state, action):
+    """The step up to the physics: the arm's controls and connect.
+
+    Returns:
+      (data to step, task state, task-space targets, connected: bool).
+    """
     s = self._settings
     action = jnp.clip(jnp.nan_to_num(rigid.real(action), nan=0.0, posinf=0.0, neginf=0.0),
                       -1.0, 1.0)
@@ -310,7 +320,11 @@ class BatchArmAssembly:
         self._tables, s.thresholds, state.task, data.qpos, data.qvel, data.eq_active,
         action[-1] > 0)
     data = data.replace(qpos=qpos, qvel=qvel, eq_active=eq_active, ctrl=ctrl)
-    data = backend.substeps(self._mx, data, s.substeps)
+    return data, task, targets, connected
+
+  def after_physics(self, state, data, task, targets, connected):
+    """The step after `substeps` physics steps of `data`: rewards, termination, reset."""
+    s = self._settings
     task = task._replace(steps=task.steps + 1)
     complete = task_state.complete(task)
     diverged = ~(jnp.isfinite(data.qpos).all() & jnp.isfinite(data.qvel).all()
@@ -365,14 +379,50 @@ class BatchArmAssembly:
     with self.precision():
       return self._reset_batch(jax.random.split(rng, num_worlds))
 
-  def step_batch(self, state, actions):
-    """One step of every world: actions (worlds, action_size); raises ActionError for
-    another shape."""
+  def _check_actions(self, state, actions):
     expected = (state.reward.shape[0], self.action_size)
     if tuple(np.shape(actions)) != expected:
       raise errors.ActionError(f"actions must have shape {expected}, got {np.shape(actions)}")
+
+  def step_batch(self, state, actions):
+    """One step of every world: actions (worlds, action_size); raises ActionError for
+    another shape."""
+    self._check_actions(state, actions)
     with self.precision():
       return self._step_batch(state, actions)
+
+  @functools.cached_property
+  def _host_parts(self):
+    return (jax.jit(jax.vmap(self.before_physics)), jax.jit(jax.vmap(self.after_physics)))
+
+  def step_batch_host(self, state, actions):
+    """`step_batch` with the physics stepped by MuJoCo's C library on the host, world by
+    world, on the same compiled model; everything else (controls, IK, connect, rewards,
+    resets) is the device code. For tests on machines where MJX's JAX implementation is
+    too slow for this model (see docs/batch.md): MJX's agreement with MuJoCo is MJX's.
+    """
+    import mujoco   # host physics only
+    self._check_actions(state, actions)
+    before, after = self._host_parts
+    model = self._arm.model
+    with self.precision():
+      data, task, targets, connected = before(state, actions)
+      fields = {f: np.array(getattr(data, f)) for f in
+                ("qpos", "qvel", "ctrl", "eq_active", "qacc_warmstart", "time")}
+      host = mujoco.MjData(model)
+      for w in range(fields["qpos"].shape[0]):
+        for f, values in fields.items():
+          if f == "time":
+            host.time = float(values[w])
+          else:
+            getattr(host, f)[:] = values[w]
+        mujoco.mj_step(model, host, nstep=self._settings.substeps)
+        for f in ("qpos", "qvel", "qacc_warmstart"):
+          fields[f][w] = getattr(host, f)
+        fields["time"][w] = host.time
+      data = data.replace(**{f: jnp.asarray(fields[f]) for f in
+                             ("qpos", "qvel", "qacc_warmstart", "time")})
+      return after(state, data, task, targets, connected)
 
 
 @functools.lru_cache(maxsize=8)

@@ -23,10 +23,14 @@ Differences from the CPU environment's compiled model, and why:
   (candidate connector pair, allowed twist) is declared with its exact mated pose
   (batch/weld_table.py), as the Cursor's batched model does. Welds keep the CPU's
   solref, solimp and torquescale.
-- MJX's JAX implementation (not Warp) lacks cylinder-box and cylinder-capsule
-  collisions: for it every collision cylinder (the Panda's links, round parts) becomes
-  a PRISM_SIDES-sided prism mesh of the cylinder's length and cross-section area (so
-  of its volume and mass). The Warp implementation keeps the cylinders.
+- MJX's JAX implementation (not Warp), which computes every collision pair of the
+  model on every step with no broad phase and lacks cylinder-box and
+  cylinder-capsule collisions, gets a lighter collision model (`light=True`): every
+  collision cylinder becomes a capsule of the same radius and overall length, and
+  only the gripper (the hand and fingers) collides; the arm's links touch nothing. With
+  the full set a step of two worlds took 28 s on the 2-core development machine and
+  its compile 7 minutes. The Warp implementation keeps the CPU's geometry and
+  collisions.
 - The wrist camera and the arena's cameras stay in the model but are never rendered.
 """
 
@@ -46,7 +50,7 @@ from ikea_suite.props import model_format
 PART_BIT = 1 << 30
 _ALL = (1 << 31) - 1
 DEFAULT_LAYOUTS = 32
-PRISM_SIDES = 12
+
 _GEOM_FIELDS = ("contype", "conaffinity", "condim", "solref", "solimp", "solmix", "friction",
                 "margin", "gap", "priority")
 _ACTUATOR_FIELDS = ("gainprm", "biasprm", "dynprm", "ctrlrange", "forcerange", "gear",
@@ -181,35 +185,33 @@ def _layouts(records, table, welds, weld_eq, neq):
   return Layouts(*(np.array(x) for x in zip(*rows)))
 
 
-def _prism_vertices(radius, half_length, sides=PRISM_SIDES):
-  """Vertices (2 sides, 3) of a prism along z with a regular `sides`-gon section of the
-  area of a circle of `radius` and the length of the cylinder."""
-  r = radius * np.sqrt(2 * np.pi / (sides * np.sin(2 * np.pi / sides)))
-  angle = np.arange(sides) * 2 * np.pi / sides
-  ring = np.stack([r * np.cos(angle), r * np.sin(angle)], -1)
-  return np.concatenate([np.c_[ring, np.full(sides, -half_length)],
-                         np.c_[ring, np.full(sides, half_length)]])
-
-
-def _cylinders_to_prisms(geoms):
-  """Makes every cylinder in `geoms` (MJCF elements) a prism mesh in place."""
-  for index, geom in enumerate(geoms):
-    if geom.type != "cylinder":
-      continue
-    size = np.asarray(geom.size, dtype=float)
-    if geom.fromto is not None:
-      ends = np.asarray(geom.fromto, dtype=float).reshape(2, 3)
-      axis = ends[1] - ends[0]
-      half = np.linalg.norm(axis) / 2
-      quat = np.empty(4)
-      mujoco.mju_quatZ2Vec(quat, axis / max(2 * half, 1e-12))
-      geom.fromto, geom.pos, geom.quat = None, ends.mean(0), quat
-      radius = size[0]
-    else:
-      radius, half = size[0], size[1]
-    mesh = geom.root.asset.add("mesh", name=f"batch_prism_{index}",
-                               vertex=_prism_vertices(radius, half).ravel())
-    geom.type, geom.size, geom.mesh = "mesh", None, mesh
+def _lighten(kept, gripper_root):
+  """The light collision model in place: cylinders as capsules, only the gripper's geoms
+  colliding on the robot. Returns the geoms switched off."""
+  gripper = set()
+  stack = [gripper_root]
+  while stack:
+    body = stack.pop()
+    gripper.update(id(g) for g in body.find_all("geom", immediate_children_only=True))
+    stack.extend(body.find_all("body", immediate_children_only=True))
+  robot_root = gripper_root.root
+  off = []
+  for geom in kept:
+    if geom.type == "cylinder":
+      size = np.asarray(geom.size, dtype=float)
+      if geom.fromto is not None:
+        ends = np.asarray(geom.fromto, dtype=float).reshape(2, 3)
+        axis = ends[1] - ends[0]
+        length = np.linalg.norm(axis)
+        shrink = min(size[0], length / 2 - 1e-6) / max(length, 1e-12)
+        geom.fromto = np.concatenate([ends[0] + shrink * axis, ends[1] - shrink * axis])
+        geom.size = [size[0]]
+      else:
+        geom.size = [size[0], max(size[1] - size[0], 1e-6)]
+      geom.type = "capsule"
+    if geom.root is robot_root and id(geom) not in gripper:
+      off.append(geom)
+  return off
 
 
 def _world_box(box, base_pos, base_rot):
@@ -220,14 +222,14 @@ def _world_box(box, base_pos, base_rot):
   return np.stack([world.min(0), world.max(0)])
 
 
-def build(furniture, robot="panda", layouts=DEFAULT_LAYOUTS, prisms=False, **options):
+def build(furniture, robot="panda", layouts=DEFAULT_LAYOUTS, light=False, **options):
   """Compiles the batched arm task's model of `furniture`.
 
   Args:
     furniture: a catalog name or a path to a furniture model file.
     robot: a single-arm robot name.
     layouts: CPU resets recorded as the batched resets' starts.
-    prisms: collision cylinders as prism meshes (for MJX's JAX implementation).
+    light: the light collision model (for MJX's JAX implementation; see above).
     **options: ikea_suite.load's options for the CPU environment the model is taken from.
 
   Returns:
@@ -257,8 +259,7 @@ def build(furniture, robot="panda", layouts=DEFAULT_LAYOUTS, prisms=False, **opt
   for mesh in root.find_all("mesh"):
     if id(mesh) not in used:
       mesh.remove()
-  if prisms:
-    _cylinders_to_prisms(kept)
+  switched_off = _lighten(kept, arm.gripper.root_body) if light else []
   for weld in root.find_all("equality"):
     if weld.tag == "weld" and (weld.name or "").startswith("part_weld_"):
       weld.remove()
@@ -277,6 +278,9 @@ def build(furniture, robot="panda", layouts=DEFAULT_LAYOUTS, prisms=False, **opt
   bodies = np.array(new.bind(frames).element_id, dtype=int)
   part_geom_ids, _ = model_format.collision_geoms(model, bodies)
   part_geom_ids = np.asarray(part_geom_ids, dtype=int)
+  if switched_off:
+    new.bind(switched_off).contype = 0
+    new.bind(switched_off).conaffinity = 0
   model.geom_contype[part_geom_ids] = PART_BIT
   model.geom_conaffinity[part_geom_ids] = _ALL & ~PART_BIT
   for field, values in act_values.items():

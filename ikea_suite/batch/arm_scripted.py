@@ -261,9 +261,10 @@ def act(env, plan_, expert, state):
   return action, expert
 
 
-def rollout(env, num_worlds, steps, seed=0):
+def rollout(env, num_worlds, steps, seed=0, host_physics=False):
   """Runs the expert in `num_worlds` worlds for up to `steps` control steps, stopping when
-  every world has completed once.
+  every world has ended its first episode. `host_physics`: step with
+  env.step_batch_host (MuJoCo's C physics) instead of MJX.
 
   Returns:
     (success (worlds,) bool: the world completed its first episode, steps it took (0 if
@@ -285,7 +286,7 @@ def rollout(env, num_worlds, steps, seed=0):
     with env.precision():
       action, expert = policy(expert, state)
     phase = np.where(ended, phase, np.asarray(expert.phase))
-    state = env.step_batch(state, action)
+    state = (env.step_batch_host if host_physics else env.step_batch)(state, action)
     done = np.asarray(state.done)
     success = np.asarray(state.metrics["success"])
     done_at = np.where(~ended & done & success, step, done_at)
