@@ -40,6 +40,7 @@ import mujoco
 import numpy as np
 from dm_control import mjcf
 
+from ikea_suite import geometry
 from ikea_suite import physics_settings
 from ikea_suite.batch import model as model_lib
 from ikea_suite.batch import weld_table as weld_table_lib
@@ -50,6 +51,7 @@ from ikea_suite.props import model_format
 PART_BIT = 1 << 30
 _ALL = (1 << 31) - 1
 DEFAULT_LAYOUTS = 32
+LIFT_CLEARANCE = 0.001   # m between a turned-over group's lowest corner and the floor
 
 _GEOM_FIELDS = ("contype", "conaffinity", "condim", "solref", "solimp", "solmix", "friction",
                 "margin", "gap", "priority")
@@ -160,7 +162,36 @@ def _record_layouts(env, count):
   return out
 
 
-def _layouts(records, table, welds, weld_eq, neq):
+def _last_part_from_above(spec, group, pos, rot):
+  """With one part loose whose design place is below the joined group's centre (a table's
+  or stool's last leg), the group turned over about the world x axis through its centre
+  and set on the floor, so the last part goes in from above (as the CPU placement lays a
+  root part whose mates attach from below; upright, a three-legged table tips over onto
+  the missing leg's corner). Other layouts are returned as they are."""
+  labels, counts = np.unique(group, return_counts=True)
+  if len(labels) != 2 or counts.min() != 1:
+    return pos, rot
+  loose = int(np.flatnonzero(group == labels[np.argmin(counts)])[0])
+  members = np.flatnonzero(group != group[loose])
+  design_z = np.array([p.pos[2] for p in spec.parts])
+  if design_z[loose] >= design_z[members].mean():
+    return pos, rot
+  flip = np.diag([1.0, -1.0, -1.0])
+  centre = pos[members].mean(0)
+  pos, rot = pos.copy(), rot.copy()
+  pos[members] = centre + (pos[members] - centre) @ flip.T
+  rot[members] = flip @ rot[members]
+  lowest = np.inf
+  for i in members:
+    lo, hi = np.asarray(spec.parts[i].bounds, dtype=float)
+    corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                        for z in (lo[2], hi[2])])
+    lowest = min(lowest, (pos[i] + corners @ rot[i].T)[:, 2].min())
+  pos[members, 2] += LIFT_CLEARANCE - lowest
+  return pos, rot
+
+
+def _layouts(records, table, welds, weld_eq, neq, spec=None):
   """Layouts with each joined part pair's declared weld on, at the twist slot nearest the
   pair's measured twist (as batch/scripted.py preassembles)."""
   from ikea_suite.tasks import alignment
@@ -169,6 +200,9 @@ def _layouts(records, table, welds, weld_eq, neq):
   for qpos, group, used, adjacency, joined in records:
     pos = qpos[:, :3]
     rot = np.array([model_lib._quat_mat(q) for q in qpos[:, 3:]])
+    if spec is not None:
+      pos, rot = _last_part_from_above(spec, group, pos, rot)
+      qpos = np.concatenate([pos, [geometry.mat_to_quat(r) for r in rot]], axis=1)
     twist = alignment.align_pairs(*table.world_frames(pos, rot), table).twist
     active = np.zeros(neq, dtype=bool)
     welded = set()
@@ -342,4 +376,4 @@ def build(furniture, robot="panda", layouts=DEFAULT_LAYOUTS, light=False, **opti
       max_translation=float(rc.max_translation), max_rotation=float(rc.max_rotation),
       velocity_limit=float(type(robot_entity).VELOCITY_LIMIT), robot_config=rc,
       task_config=task.config,
-      layouts=_layouts(records, table, welds, weld_eq, model.neq), cpu_env=env)
+      layouts=_layouts(records, table, welds, weld_eq, model.neq, spec), cpu_env=env)

@@ -46,6 +46,7 @@ CARRY_MARGIN = 0.04   # m of clearance under the carried part's lowest point
 APPROACH = 0.03       # m above the mated pose from which the part goes in
 GRIP_OFFSET = 0.3     # fraction of the half length from the centre, away from the mate
 POS_TOL, ROT_TOL = 0.006, 0.06   # m, rad: a waypoint is reached
+CARRY_GAIN = 0.5      # fraction of the part's pose error the target takes per step
 DESCEND_GAIN = 0.4    # fraction of a full step the open hand goes down by
 
 
@@ -58,6 +59,8 @@ class Plan(typing.NamedTuple):
     rel_pos, rel_rot: (p, 3), (p, 3, 3) each part's design pose in its mate's frame.
     away: (p, 3) unit vector (part frame) along the part's long axis pointing away from
       its connector to the mate.
+    conn_pos, conn_axis: (p, 3) that connector's position and up axis (part frame).
+    twists, twist_valid: (p, t) the pair's allowed twists (rad) about that axis.
     closing: (3,) the fingers' closing axis in the tool frame.
     pad_below: m the fingertips reach below the tool centre when pointing down.
   """
@@ -67,6 +70,10 @@ class Plan(typing.NamedTuple):
   rel_pos: jnp.ndarray
   rel_rot: jnp.ndarray
   away: jnp.ndarray
+  conn_pos: jnp.ndarray
+  conn_axis: jnp.ndarray
+  twists: jnp.ndarray
+  twist_valid: jnp.ndarray
   closing: jnp.ndarray
   pad_below: float
 
@@ -117,6 +124,11 @@ def plan(env):
   design_rot = np.array([q.rot for q in spec.parts], dtype=float)
   mate = np.zeros(p, dtype=int)
   rel_pos, rel_rot, away = np.zeros((p, 3)), np.tile(np.eye(3), (p, 1, 1)), np.zeros((p, 3))
+  welds = bm.welds
+  conn_pos, conn_axis = np.zeros((p, 3)), np.tile([0.0, 0.0, 1.0], (p, 1))
+  twists = np.zeros((p, welds.twist_angles.shape[1]))
+  twist_valid = np.zeros_like(twists, dtype=bool)
+  twist_valid[:, 0] = True
   done = np.zeros(p, dtype=bool)
   for k in cpu_placement.design_pairs(spec, table):
     for own, other in ((table.pair_a[k], table.pair_b[k]), (table.pair_b[k], table.pair_a[k])):
@@ -131,10 +143,14 @@ def plan(env):
       long = int(np.argmax(half[i]))
       axis[long] = -np.sign(table.local_pos[own][long] - center[i][long]) or 1.0
       away[i] = axis
+      conn_pos[i], conn_axis[i] = table.local_pos[own], table.local_rot[own][:, 2]
+      twists[i], twist_valid[i] = welds.twist_angles[k], welds.twist_valid[k]
   closing, pad_below = _finger_geometry(env)
   f = lambda x: rigid.real(np.asarray(x))
   return Plan(center=f(center), half=f(half), mate=jnp.asarray(mate, dtype=jnp.int32),
-              rel_pos=f(rel_pos), rel_rot=f(rel_rot), away=f(away), closing=f(closing),
+              rel_pos=f(rel_pos), rel_rot=f(rel_rot), away=f(away), conn_pos=f(conn_pos),
+              conn_axis=f(conn_axis), twists=f(twists), twist_valid=jnp.asarray(twist_valid),
+              closing=f(closing),
               pad_below=float(pad_below))
 
 
@@ -174,10 +190,28 @@ def _grasp(plan_, home_rot, part_pos, part_rot, m):
   return point, rigid.rot_z(yaw) @ home_rot
 
 
+def _mated_pose(plan_, part_pos, part_rot, m):
+  """The pose of part m on its mate nearest its present orientation: the design pose
+  turned about the connector's axis by the allowed twist that needs the least turning."""
+  t = plan_.mate[m]
+  design_rot = part_rot[t] @ plan_.rel_rot[m]
+  design_pos = part_pos[t] + rigid.apply(part_rot[t], plan_.rel_pos[m])
+  connector = design_pos + rigid.apply(design_rot, plan_.conn_pos[m])
+  axis = plan_.conn_axis[m]
+  turns = jax.vmap(lambda a: arm_control._axis_rot(axis, a))(plan_.twists[m])      # (t, 3, 3)
+  rots = design_rot[None] @ turns
+  angle = jax.vmap(lambda r: jnp.linalg.norm(arm_control.rotation_vector(r @ part_rot[m].T)))(
+      rots)
+  best = jnp.argmin(jnp.where(plan_.twist_valid[m], angle, jnp.inf))
+  rot = rots[best]
+  return connector - rigid.apply(rot, plan_.conn_pos[m]), rot
+
+
 def _toward(targets, pos, rot, max_translation, max_rotation, gain=1.0):
   """Task-space action entries (6,) that move the target towards (pos, rot)."""
   move = jnp.clip((pos - targets.pos) / max_translation * gain, -1.0, 1.0)
-  turn = jnp.clip(arm_control.rotation_vector(rot @ targets.rot.T) / max_rotation, -1.0, 1.0)
+  turn = jnp.clip(arm_control.rotation_vector(rot @ targets.rot.T) / max_rotation * gain,
+                  -1.0, 1.0)
   return jnp.concatenate([move, turn])
 
 
@@ -200,16 +234,16 @@ def act(env, plan_, expert, state):
   grasp_pos, grasp_rot = _grasp(plan_, home_rot, part_pos[m], part_rot[m], m)
   hover = grasp_pos + jnp.array([0.0, 0.0, HOVER])
   # The mated pose of m and the carry waypoint above it.
-  t = plan_.mate[m]
-  goal_rot = part_rot[t] @ plan_.rel_rot[m]
-  goal_pos = part_pos[t] + rigid.apply(part_rot[t], plan_.rel_pos[m])
+  goal_pos, goal_rot = _mated_pose(plan_, part_pos, part_rot, m)
   extent = jnp.linalg.norm(plan_.half[m])
   carry_z = extent + CARRY_MARGIN + jnp.maximum(goal_pos[2], 0.0)
   above = goal_pos + jnp.array([0.0, 0.0, APPROACH])
-  # Tool pose that puts the part at a pose, from the part's present error (slip included).
+  # The task-space target moved by the part's present pose error: the target integrates
+  # the error, so the tool's tracking offset (gravity on the servos) and slip in the grip
+  # are taken out too.
   def tool_for(pos, rot):
     delta = rot @ part_rot[m].T
-    return pos + rigid.apply(delta, tool_pos - part_pos[m]), delta @ tool_rot
+    return (pos + rigid.apply(delta, targets.pos - part_pos[m]), delta @ targets.rot)
   part_err = lambda pos, rot: (jnp.linalg.norm(part_pos[m] - pos),
                                jnp.linalg.norm(arm_control.rotation_vector(rot @ part_rot[m].T)))
   mt, mr = am.max_translation, am.max_rotation
@@ -227,8 +261,8 @@ def act(env, plan_, expert, state):
       (grasp_pos, grasp_rot, DESCEND_GAIN),
       (targets.pos, targets.rot, 1.0),
       (lift_pos, targets.rot, 1.0),
-      (carry_tool[0], carry_tool[1], 1.0),
-      (goal_tool[0], goal_tool[1], 0.5),
+      (carry_tool[0], carry_tool[1], CARRY_GAIN),
+      (goal_tool[0], goal_tool[1], CARRY_GAIN),
   ]
   pos_d = jnp.stack([w[0] for w in waypoints])[phase]
   rot_d = jnp.stack([w[1] for w in waypoints])[phase]
