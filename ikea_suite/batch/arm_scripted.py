@@ -173,8 +173,24 @@ def _corners(pos, rot, center, half):
   return pos + rigid.apply(rot, center + signs * half)
 
 
-def _grasp(plan_, home_rot, part_pos, part_rot, m):
-  """Tool pose (pos, rot) of the top-down grasp of part m lying at (part_pos, part_rot)."""
+def _twist_from_home(rot, home_rot):
+  """Angle (rad) by which tool rotation `rot` is turned about its own approach axis from
+  the home orientation tilted the shortest way onto that axis: how far the wrist's last
+  joint is wound from home, near enough to choose between two grasps."""
+  down = home_rot[:, 2]
+  axis = rot[:, 2]
+  tilt_axis = jnp.cross(down, axis)
+  sin, cos = jnp.linalg.norm(tilt_axis), jnp.dot(down, axis)
+  tilt = arm_control._axis_rot(tilt_axis / jnp.maximum(sin, 1e-9), jnp.arctan2(sin, cos))
+  reference = tilt @ home_rot
+  return jnp.abs(arm_control.rotation_vector(rot @ reference.T) @ axis)
+
+
+def _grasp(plan_, home_rot, part_pos, part_rot, m, carry_turn):
+  """Tool pose (pos, rot) of the top-down grasp of part m lying at (part_pos, part_rot):
+  of the two grasps across its long axis, the one whose tool, once the part is turned by
+  `carry_turn` (world) onto its mate, is wound least from home about its approach axis
+  (the other may need the wrist past its range)."""
   center, half = plan_.center[m], plan_.half[m]
   long_local = jnp.zeros(3).at[jnp.argmax(half)].set(1.0)
   point = part_pos + rigid.apply(part_rot, center + plan_.away[m] * half * GRIP_OFFSET)
@@ -187,7 +203,10 @@ def _grasp(plan_, home_rot, part_pos, part_rot, m):
   yaw = jnp.arctan2(home_closing[0] * across[1] - home_closing[1] * across[0],
                     home_closing[0] * across[0] + home_closing[1] * across[1])
   yaw = jnp.where(yaw > jnp.pi / 2, yaw - jnp.pi, jnp.where(yaw < -jnp.pi / 2, yaw + jnp.pi, yaw))
-  return point, rigid.rot_z(yaw) @ home_rot
+  first, second = rigid.rot_z(yaw) @ home_rot, rigid.rot_z(yaw + jnp.pi) @ home_rot
+  keep = (_twist_from_home(carry_turn @ first, home_rot)
+          <= _twist_from_home(carry_turn @ second, home_rot))
+  return point, jnp.where(keep, first, second)
 
 
 def _mated_pose(plan_, part_pos, part_rot, m):
@@ -231,10 +250,11 @@ def act(env, plan_, expert, state):
   part_pos, part_rot = task_state.part_poses(env.tables, qpos)
   tool_pos, tool_rot = env.tool_pose(qpos)
   home_rot = rigid.real(am.home_tcp_rot)
-  grasp_pos, grasp_rot = _grasp(plan_, home_rot, part_pos[m], part_rot[m], m)
-  hover = grasp_pos + jnp.array([0.0, 0.0, HOVER])
-  # The mated pose of m and the carry waypoint above it.
+  # The mated pose of m, then the grasp that suits the turn onto it.
   goal_pos, goal_rot = _mated_pose(plan_, part_pos, part_rot, m)
+  grasp_pos, grasp_rot = _grasp(plan_, home_rot, part_pos[m], part_rot[m], m,
+                                goal_rot @ part_rot[m].T)
+  hover = grasp_pos + jnp.array([0.0, 0.0, HOVER])
   extent = jnp.linalg.norm(plan_.half[m])
   carry_z = extent + CARRY_MARGIN + jnp.maximum(goal_pos[2], 0.0)
   above = goal_pos + jnp.array([0.0, 0.0, APPROACH])
