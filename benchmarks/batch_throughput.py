@@ -101,7 +101,8 @@ def main():
         else:
           env = arm_env.load(name, robot, impl=impl, num_worlds=worlds)
         rate, compile_s = batch_rate(env, worlds, args.steps)
-        print(f"{robot:7s} {name:28s} {worlds:7d} {rate:12.0f} {rate / single:9.2f} "
+        shown = f"{rate:12.0f}" if rate >= 10 else f"{rate:12.3f}"
+        print(f"{robot:7s} {name:28s} {worlds:7d} {shown} {rate / single:9.3g} "
               f"{compile_s:9.1f}", flush=True)
 
 
