@@ -161,7 +161,7 @@ def test_scripted_expert_grasps_lifts_and_carries(env):
   """In every world the expert closes the hand on the loose part and lifts it clear of the
   floor to the carry height (phase CARRY), the part held in the fingers."""
   start = time.time()
-  success, steps, phase = arm_scripted.rollout(env, 4, 110, seed=0, host_physics=True)
-  print(f"phases after 110 steps {phase.tolist()} ({time.time() - start:.0f} s); "
+  success, steps, phase = arm_scripted.rollout(env, 4, 140, seed=0, host_physics=True)
+  print(f"phases after 140 steps {phase.tolist()} ({time.time() - start:.0f} s); "
         f"completed {int(success.sum())}/4")
   assert (phase >= arm_scripted.CARRY).all(), phase
