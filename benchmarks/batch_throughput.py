@@ -1,16 +1,22 @@
 """Env steps/s of the batched (MJX) assembly task next to the CPU environment's single process.
 
-An env step is the CPU environment's step: the cursors act, connect is tried
-(off here: random actions with connect = -1, measuring stepping), then the
-same 25 physics substeps; state observations are computed every step. For
-each furniture: the CPU env's steps/s in one process (ikea_suite.load), then
-the batched env's steps/s at each world count, after one untimed step that
-compiles it, and the world-steps whose Warp contact or constraint buffers
+An env step is the CPU environment's step: the robot acts (the cursors, or the
+Panda's task-space action through the batched IK), connect is tried (off here:
+random actions with connect = -1, measuring stepping), then the same 25 physics
+substeps; state observations are computed every step. For each robot and
+furniture: the CPU env's steps/s in one process (ikea_suite.load), then the
+batched env's steps/s at each world count, after one untimed step that compiles
+it, and the world-steps whose Warp contact or constraint buffers
 overflowed (contact_buffers; always 0 on MJX's JAX implementation). Prints the
 device and MJX implementation.
 
-  python benchmarks/batch_throughput.py [--worlds 1024 4096 16384 65536] [--steps 20]
-      [--furniture table_four_leg_lack chair_back_ivar bed_slatted_kids_birch_open]
+  python benchmarks/batch_throughput.py [--robot cursor panda] [--worlds 1024 4096 16384]
+      [--steps 20] [--furniture table_four_leg_lack chair_back_ivar ...]
+
+--robot panda alone defaults to the four-leg table (the issue's Panda target: 50,000 env
+steps/s at 4k worlds or more on one H100). On MJX's JAX implementation (no GPU) the Panda
+uses its light collision model (batch/arm_model.py) and is slow: one env step of one world
+took about 40 s on the 2-core development machine, so give it --worlds 1 --steps 1 there.
 
 Defaults: 1k, 4k, 16k, 64k worlds on a GPU; 16 and 32 on a CPU (on the 2-core
 development machine, 64 worlds of MJX's JAX implementation hung in XLA's CPU
@@ -25,14 +31,17 @@ import numpy as np
 
 import ikea_suite
 from ikea_suite.batch import backend
+from ikea_suite.batch import arm_env
 from ikea_suite.batch import env as env_lib
 
 FURNITURE = ("table_four_leg_lack", "chair_back_ivar", "bed_slatted_kids_birch_open")
+ARM_FURNITURE = ("table_four_leg_lack",)
+ROBOTS = ("cursor",) + arm_env.ROBOTS
 
 
-def cpu_rate(name, steps):
-  """Steps/s of ikea_suite.load(name, "cursor") in this process, random actions, no connect."""
-  env = ikea_suite.load(name, "cursor", seed=0)
+def cpu_rate(name, steps, robot="cursor"):
+  """Steps/s of ikea_suite.load(name, robot) in this process, random actions, no connect."""
+  env = ikea_suite.load(name, robot, seed=0)
   env.reset()
   rng = np.random.default_rng(0)
   actions = rng.uniform(-1, 1, size=(steps,) + env.action_spec().shape)
@@ -73,25 +82,35 @@ def main():
                       default=[1024, 4096, 16384, 65536] if on_gpu else [16, 32])
   parser.add_argument("--steps", type=int, default=20 if on_gpu else 3)
   parser.add_argument("--cpu-steps", type=int, default=300)
-  parser.add_argument("--furniture", nargs="*", default=list(FURNITURE))
+  parser.add_argument("--furniture", nargs="*", default=None,
+                      help=f"default: {' '.join(FURNITURE)} (cursor), "
+                           f"{' '.join(ARM_FURNITURE)} (arms)")
+  parser.add_argument("--robot", nargs="*", default=["cursor"], choices=ROBOTS)
   parser.add_argument("--impl", default=None, choices=backend.IMPLS)
   args = parser.parse_args()
   device = jax.devices()[0]
   impl = backend.check_impl(args.impl)
   print(f"device: {device.platform} {getattr(device, 'device_kind', '')}; MJX impl: {impl}; "
         f"physics substeps per env step: 25")
-  header = (f"{'furniture':32s} {'worlds':>7s} {'env steps/s':>12s} {'x CPU env':>9s} "
-            f"{'compile s':>9s} {'overflow':>8s}")
+  header = (f"{'robot':7s} {'furniture':28s} {'worlds':>7s} {'env steps/s':>12s} "
+            f"{'x CPU env':>9s} {'compile s':>9s} {'overflow':>8s}")
   print(header)
   print("-" * len(header))
-  for name in args.furniture:
-    single = cpu_rate(name, args.cpu_steps)
-    print(f"{name:32s} {'CPU env':>7s} {single:12.0f} {1.0:9.2f} {'':>9s}", flush=True)
-    for worlds in args.worlds:
-      env = env_lib.load(name, impl=impl, num_worlds=worlds)
-      rate, compile_s, overflow = batch_rate(env, worlds, args.steps)
-      print(f"{name:32s} {worlds:7d} {rate:12.0f} {rate / single:9.2f} {compile_s:9.1f} "
-            f"{overflow:8d}", flush=True)
+  for robot in args.robot:
+    names = args.furniture or (FURNITURE if robot == "cursor" else ARM_FURNITURE)
+    for name in names:
+      single = cpu_rate(name, args.cpu_steps, robot)
+      print(f"{robot:7s} {name:28s} {'CPU env':>7s} {single:12.0f} {1.0:9.2f} {'':>9s}",
+            flush=True)
+      for worlds in args.worlds:
+        if robot == "cursor":
+          env = env_lib.load(name, impl=impl, num_worlds=worlds)
+        else:
+          env = arm_env.load(name, robot, impl=impl, num_worlds=worlds)
+        rate, compile_s, overflow = batch_rate(env, worlds, args.steps)
+        shown = f"{rate:12.0f}" if rate >= 10 else f"{rate:12.3f}"
+        print(f"{robot:7s} {name:28s} {worlds:7d} {shown} {rate / single:9.3g} "
+              f"{compile_s:9.1f} {overflow:8d}", flush=True)
 
 
 if __name__ == "__main__":

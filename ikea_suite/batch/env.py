@@ -310,7 +310,7 @@ def _cached(furniture, impl, num_worlds, buffer_sizes, options):
 
 
 def load(furniture="table_four_leg_lack", impl=None, num_worlds=None, buffer_sizes=None,
-         **options):
+         robot="cursor", **options):
   """The batched assembly environment of `furniture` (cached: equal arguments return the same
   object, so its jitted functions compile once per process).
 
@@ -319,11 +319,17 @@ def load(furniture="table_four_leg_lack", impl=None, num_worlds=None, buffer_siz
     impl: "warp", "jax" or None (warp on a GPU with warp-lang, else jax).
     num_worlds: worlds to be stepped together (Warp buffer sizing).
     buffer_sizes: (nconmax, njmax) per world for Warp instead of the measured sizing.
-    **options: ikea_suite.load's task options, see settings.OPTIONS.
+    robot: "cursor", or an arm of arm_env.ROBOTS ("panda": an arm_env.BatchArmAssembly).
+    **options: ikea_suite.load's task options, see settings.OPTIONS (arm_env.OPTIONS for
+      an arm).
 
   Returns:
-    A BatchAssembly.
+    A BatchAssembly (or BatchArmAssembly).
   """
+  if robot != "cursor":
+    from ikea_suite.batch import arm_env   # imports this module
+    return arm_env.load(furniture, robot, impl=impl, num_worlds=num_worlds,
+                        buffer_sizes=buffer_sizes, **options)
   impl = backend.check_impl(impl)
   if impl == "jax":
     num_worlds = None   # only Warp sizes buffers by it; one cached env serves every size

@@ -22,6 +22,7 @@ from gymnasium.vector import AutoresetMode
 
 from ikea_suite import errors
 from ikea_suite import observations
+from ikea_suite.batch import arm_env
 from ikea_suite.batch import env as env_lib
 
 
@@ -31,12 +32,12 @@ def _box(spec):
 
 
 class AssemblyVectorEnv(gymnasium.vector.VectorEnv):
-  """`num_envs` worlds of `furniture` for the Cursor agent.
+  """`num_envs` worlds of `furniture` for the Cursor agent or a batched arm (the Panda).
 
   Args:
     furniture: catalog name or model file path.
     num_envs: number of worlds.
-    robot: only "cursor" (the batched task has no arms).
+    robot: "cursor" or "panda" (batch/arm_env.py).
     impl: "warp", "jax" or None (see BatchAssembly).
     **options: ikea_suite.load's task options (batch.settings.OPTIONS).
   Raises:
@@ -47,13 +48,15 @@ class AssemblyVectorEnv(gymnasium.vector.VectorEnv):
 
   def __init__(self, furniture="table_four_leg_lack", num_envs=1, robot="cursor", impl=None,
                **options):
-    if robot != "cursor":
+    if robot != "cursor" and robot not in arm_env.ROBOTS:
       raise errors.OptionValueError(
-          f"the batched environment supports robot 'cursor' only, got {robot!r}; for an arm "
-          f"use gymnasium.make_vec(..., vectorization_mode='async') (or 'sync')")
+          f"the batched environment supports robots {', '.join(('cursor',) + arm_env.ROBOTS)}, "
+          f"got {robot!r}; for another arm use gymnasium.make_vec(..., "
+          f"vectorization_mode='async') (or 'sync')")
     if not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
       raise errors.OptionValueError(f"num_envs must be an integer >= 1, got {num_envs!r}")
-    self._env = env_lib.load(furniture, impl=impl, num_worlds=int(num_envs), **options)
+    self._env = env_lib.load(furniture, impl=impl, num_worlds=int(num_envs), robot=robot,
+                             **options)
     self.num_envs = int(num_envs)
     num_parts = self._env.num_parts
     with self._env.precision():

@@ -43,6 +43,22 @@ def observe(tables, state, qpos):
     task/connections (p, p), task/connectors_used (c,), task/next_pair (2,),
     robot/tcp_positions (2, 3), robot/tcp_quaternions (2, 4), robot/held_parts (2,).
   """
+  f32 = rigid.real
+  return {
+      **task_observations(tables, state, qpos),
+      "robot/tcp_positions": f32(state.cursor_pos),
+      "robot/tcp_quaternions": f32(state.cursor_quat),
+      "robot/held_parts": f32(state.held),
+  }
+
+
+def task_observations(tables, state, qpos):
+  """The `furniture/` and `task/` observations of one world, whatever the robot.
+
+  Returns:
+    dict: furniture/part_positions (p, 3), furniture/part_quaternions (p, 4),
+    task/connections (p, p), task/connectors_used (c,), task/next_pair (2,).
+  """
   pos, rot = task_state.part_poses(tables, qpos)
   f32 = rigid.real
   return {
@@ -51,7 +67,4 @@ def observe(tables, state, qpos):
       "task/connections": f32(state.adjacency),
       "task/connectors_used": f32(state.connector_used),
       "task/next_pair": f32(next_pair(tables, state)),
-      "robot/tcp_positions": f32(state.cursor_pos),
-      "robot/tcp_quaternions": f32(state.cursor_quat),
-      "robot/held_parts": f32(state.held),
   }

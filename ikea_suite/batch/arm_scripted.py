@@ -1,0 +1,355 @@
+"""A batched scripted expert for a single arm's last-part task, as pure jax functions.
+
+The task: every part but one is joined (load option `preassembled` = parts - 1, so
+the CPU task's own placement lays the assembly and the loose part within reach); the
+expert takes the loose part from above, lifts it, turns and carries it so that it
+stands over its place on the assembly, lowers it in and connects. The CPU expert
+(experts/single_arm.py with top_down_grasp.py and mating.py) does the same one part at
+a time with more cases (clearance routes, regrasps, turning the assembly over); this
+one covers parts that a top-down grasp can carry to their mate in one motion, the
+legs of the catalog's tables, stools and benches.
+
+Per world it reads the privileged state (part poses, the task-space target, the tool
+pose) and keeps a small ExpertState (phase, step counter, the part's pose in the tool
+frame measured when the fingers closed). Phases:
+
+  REACH    open hand HOVER above the grasp point, pointing down, fingers across the
+           part's long axis
+  DESCEND  down to the grasp point (fingertips just above the part's underside)
+  CLOSE    squeeze for CLOSE_STEPS
+  LIFT     straight up to the carry height
+  CARRY    move and turn so the part's pose is its mated pose raised by APPROACH
+  INSERT   lower it onto the mate with connect on; the task snaps and welds it
+
+While carrying, the tool's command is the part's pose error applied to the tool (as
+batch/scripted.py steers the Cursor's part), so slip in the grip is corrected too.
+"""
+
+import typing
+
+import jax
+import jax.numpy as jnp
+import mujoco
+import numpy as np
+
+from ikea_suite.batch import arm_control
+from ikea_suite.batch import rigid
+from ikea_suite.batch import task_state
+from ikea_suite.tasks import placement as cpu_placement
+
+REACH, DESCEND, CLOSE, LIFT, CARRY, INSERT = range(6)
+PHASES = ("reach", "descend", "close", "lift", "carry", "insert")
+HOVER = 0.06          # m above the grasp point the reach makes for
+TIP_CLEARANCE = 0.004  # m between the fingertips and the part's underside (or the floor)
+CLOSE_STEPS = 10      # control steps the fingers squeeze before lifting (0.5 s)
+CARRY_MARGIN = 0.04   # m of clearance under the carried part's lowest point
+APPROACH = 0.03       # m above the mated pose from which the part goes in
+GRIP_OFFSET = 0.3     # fraction of the half length from the centre, away from the mate
+POS_TOL, ROT_TOL = 0.006, 0.06   # m, rad: a waypoint is reached
+CARRY_GAIN = 0.5      # fraction of the part's pose error the target takes per step
+DESCEND_GAIN = 0.4    # fraction of a full step the open hand goes down by
+
+
+class Plan(typing.NamedTuple):
+  """Device constants of one furniture for the expert.
+
+  Attributes:
+    center, half: (p, 3) each part's collision box centre and half size (part frame).
+    mate: (p,) the part each part mates with in the design (its first design pair).
+    rel_pos, rel_rot: (p, 3), (p, 3, 3) each part's design pose in its mate's frame.
+    away: (p, 3) unit vector (part frame) along the part's long axis pointing away from
+      its connector to the mate.
+    conn_pos, conn_axis: (p, 3) that connector's position and up axis (part frame).
+    twists, twist_valid: (p, t) the pair's allowed twists (rad) about that axis.
+    closing: (3,) the fingers' closing axis in the tool frame.
+    pad_below: m the fingertips reach below the tool centre when pointing down.
+  """
+  center: jnp.ndarray
+  half: jnp.ndarray
+  mate: jnp.ndarray
+  rel_pos: jnp.ndarray
+  rel_rot: jnp.ndarray
+  away: jnp.ndarray
+  conn_pos: jnp.ndarray
+  conn_axis: jnp.ndarray
+  twists: jnp.ndarray
+  twist_valid: jnp.ndarray
+  closing: jnp.ndarray
+  pad_below: float
+
+
+class ExpertState(typing.NamedTuple):
+  """One world's expert memory (batched: a leading world axis)."""
+  phase: jnp.ndarray       # int32
+  steps: jnp.ndarray       # int32 control steps in the phase
+  grip_pos: jnp.ndarray    # (3,) part position in the tool frame, set when closing ends
+  grip_rot: jnp.ndarray    # (3, 3)
+
+
+def _finger_geometry(env):
+  """(closing axis in the tool frame, fingertip reach below the tool) at home, measured on
+  the compiled model with MuJoCo."""
+  am = env.arm_model
+  model = am.model
+  data = mujoco.MjData(model)
+  data.qpos[:] = am.home_qpos
+  mujoco.mj_forward(model, data)
+  tool_pos = data.site_xpos[am.tcp_site]
+  tool_rot = data.site_xmat[am.tcp_site].reshape(3, 3)
+  a, b = data.xpos[am.finger_body[0]], data.xpos[am.finger_body[1]]
+  closing = tool_rot.T @ (b - a)
+  closing /= np.linalg.norm(closing)
+  lowest = np.inf
+  for g in np.flatnonzero(np.isin(model.geom_bodyid, am.finger_body)):
+    if not (model.geom_contype[g] or model.geom_conaffinity[g]):
+      continue
+    half = model.geom_aabb[g, 3:]
+    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * half
+    corners = corners + model.geom_aabb[g, :3]
+    world = data.geom_xpos[g] + corners @ data.geom_xmat[g].reshape(3, 3).T
+    lowest = min(lowest, world[:, 2].min())
+  return closing, float(tool_pos[2] - lowest)
+
+
+def plan(env):
+  """The expert's Plan for a BatchArmAssembly `env` (numpy work, once per environment)."""
+  bm = env.batch_model
+  spec, table = bm.spec, bm.table
+  p = bm.num_parts
+  center, half = np.zeros((p, 3)), np.zeros((p, 3))
+  for i in range(p):
+    lo, hi = np.asarray(spec.parts[i].bounds, dtype=float)
+    center[i], half[i] = (lo + hi) / 2, (hi - lo) / 2
+  design_pos = np.array([q.pos for q in spec.parts], dtype=float)
+  design_rot = np.array([q.rot for q in spec.parts], dtype=float)
+  mate = np.zeros(p, dtype=int)
+  rel_pos, rel_rot, away = np.zeros((p, 3)), np.tile(np.eye(3), (p, 1, 1)), np.zeros((p, 3))
+  welds = bm.welds
+  conn_pos, conn_axis = np.zeros((p, 3)), np.tile([0.0, 0.0, 1.0], (p, 1))
+  twists = np.zeros((p, welds.twist_angles.shape[1]))
+  twist_valid = np.zeros_like(twists, dtype=bool)
+  twist_valid[:, 0] = True
+  done = np.zeros(p, dtype=bool)
+  for k in cpu_placement.design_pairs(spec, table):
+    for own, other in ((table.pair_a[k], table.pair_b[k]), (table.pair_b[k], table.pair_a[k])):
+      i, j = int(table.part[own]), int(table.part[other])
+      if done[i]:
+        continue
+      done[i] = True
+      mate[i] = j
+      rel_rot[i] = design_rot[j].T @ design_rot[i]
+      rel_pos[i] = design_rot[j].T @ (design_pos[i] - design_pos[j])
+      axis = np.zeros(3)
+      long = int(np.argmax(half[i]))
+      axis[long] = -np.sign(table.local_pos[own][long] - center[i][long]) or 1.0
+      away[i] = axis
+      conn_pos[i], conn_axis[i] = table.local_pos[own], table.local_rot[own][:, 2]
+      twists[i], twist_valid[i] = welds.twist_angles[k], welds.twist_valid[k]
+  closing, pad_below = _finger_geometry(env)
+  f = lambda x: rigid.real(np.asarray(x))
+  return Plan(center=f(center), half=f(half), mate=jnp.asarray(mate, dtype=jnp.int32),
+              rel_pos=f(rel_pos), rel_rot=f(rel_rot), away=f(away), conn_pos=f(conn_pos),
+              conn_axis=f(conn_axis), twists=f(twists), twist_valid=jnp.asarray(twist_valid),
+              closing=f(closing),
+              pad_below=float(pad_below))
+
+
+def initial_state():
+  """The expert's memory at an episode's start."""
+  return ExpertState(phase=jnp.int32(REACH), steps=jnp.int32(0), grip_pos=jnp.zeros(3),
+                     grip_rot=jnp.eye(3))
+
+
+def loose_part(env, state):
+  """The part outside the root's group (the last part), or the suggested moving part."""
+  group = state.task.group
+  root = group[env.tables.order[0]]
+  outside = group != root
+  return jnp.where(outside.any(), jnp.argmax(outside), 0)
+
+
+def _corners(pos, rot, center, half):
+  signs = jnp.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
+  return pos + rigid.apply(rot, center + signs * half)
+
+
+def _twist_from_home(rot, home_rot):
+  """Angle (rad) by which tool rotation `rot` is turned about its own approach axis from
+  the home orientation tilted the shortest way onto that axis: how far the wrist's last
+  joint is wound from home, near enough to choose between two grasps."""
+  down = home_rot[:, 2]
+  axis = rot[:, 2]
+  tilt_axis = jnp.cross(down, axis)
+  sin, cos = jnp.linalg.norm(tilt_axis), jnp.dot(down, axis)
+  tilt = arm_control._axis_rot(tilt_axis / jnp.maximum(sin, 1e-9), jnp.arctan2(sin, cos))
+  reference = tilt @ home_rot
+  return jnp.abs(arm_control.rotation_vector(rot @ reference.T) @ axis)
+
+
+def _grasp(plan_, home_rot, part_pos, part_rot, m, carry_turn):
+  """Tool pose (pos, rot) of the top-down grasp of part m lying at (part_pos, part_rot):
+  of the two grasps across its long axis, the one whose tool, once the part is turned by
+  `carry_turn` (world) onto its mate, is wound least from home about its approach axis
+  (the other may need the wrist past its range)."""
+  center, half = plan_.center[m], plan_.half[m]
+  long_local = jnp.zeros(3).at[jnp.argmax(half)].set(1.0)
+  point = part_pos + rigid.apply(part_rot, center + plan_.away[m] * half * GRIP_OFFSET)
+  low = jnp.maximum(jnp.min(_corners(part_pos, part_rot, center, half)[:, 2]), 0.0)
+  point = point.at[2].set(low + plan_.pad_below + TIP_CLEARANCE)
+  long_world = rigid.apply(part_rot, long_local)
+  across = jnp.array([-long_world[1], long_world[0], 0.0])
+  across = across / jnp.maximum(jnp.linalg.norm(across), 1e-9)
+  home_closing = rigid.apply(home_rot, plan_.closing)
+  yaw = jnp.arctan2(home_closing[0] * across[1] - home_closing[1] * across[0],
+                    home_closing[0] * across[0] + home_closing[1] * across[1])
+  yaw = jnp.where(yaw > jnp.pi / 2, yaw - jnp.pi, jnp.where(yaw < -jnp.pi / 2, yaw + jnp.pi, yaw))
+  first, second = rigid.rot_z(yaw) @ home_rot, rigid.rot_z(yaw + jnp.pi) @ home_rot
+  keep = (_twist_from_home(carry_turn @ first, home_rot)
+          <= _twist_from_home(carry_turn @ second, home_rot))
+  return point, jnp.where(keep, first, second)
+
+
+def _mated_pose(plan_, part_pos, part_rot, m):
+  """The pose of part m on its mate nearest its present orientation: the design pose
+  turned about the connector's axis by the allowed twist that needs the least turning."""
+  t = plan_.mate[m]
+  design_rot = part_rot[t] @ plan_.rel_rot[m]
+  design_pos = part_pos[t] + rigid.apply(part_rot[t], plan_.rel_pos[m])
+  connector = design_pos + rigid.apply(design_rot, plan_.conn_pos[m])
+  axis = plan_.conn_axis[m]
+  turns = jax.vmap(lambda a: arm_control._axis_rot(axis, a))(plan_.twists[m])      # (t, 3, 3)
+  rots = design_rot[None] @ turns
+  angle = jax.vmap(lambda r: jnp.linalg.norm(arm_control.rotation_vector(r @ part_rot[m].T)))(
+      rots)
+  best = jnp.argmin(jnp.where(plan_.twist_valid[m], angle, jnp.inf))
+  rot = rots[best]
+  return connector - rigid.apply(rot, plan_.conn_pos[m]), rot
+
+
+def _toward(targets, pos, rot, max_translation, max_rotation, gain=1.0):
+  """Task-space action entries (6,) that move the target towards (pos, rot)."""
+  move = jnp.clip((pos - targets.pos) / max_translation * gain, -1.0, 1.0)
+  turn = jnp.clip(arm_control.rotation_vector(rot @ targets.rot.T) / max_rotation * gain,
+                  -1.0, 1.0)
+  return jnp.concatenate([move, turn])
+
+
+def act(env, plan_, expert, state):
+  """(action, next ExpertState) of one world.
+
+  Args:
+    env: the BatchArmAssembly (task_space control).
+    plan_: its Plan.
+    expert: ExpertState of the world.
+    state: the world's arm_env.State.
+  """
+  am = env.arm_model
+  qpos = state.data.qpos
+  targets = state.targets
+  m = loose_part(env, state)
+  part_pos, part_rot = task_state.part_poses(env.tables, qpos)
+  tool_pos, tool_rot = env.tool_pose(qpos)
+  home_rot = rigid.real(am.home_tcp_rot)
+  # The mated pose of m, then the grasp that suits the turn onto it.
+  goal_pos, goal_rot = _mated_pose(plan_, part_pos, part_rot, m)
+  grasp_pos, grasp_rot = _grasp(plan_, home_rot, part_pos[m], part_rot[m], m,
+                                goal_rot @ part_rot[m].T)
+  hover = grasp_pos + jnp.array([0.0, 0.0, HOVER])
+  extent = jnp.linalg.norm(plan_.half[m])
+  carry_z = extent + CARRY_MARGIN + jnp.maximum(goal_pos[2], 0.0)
+  above = goal_pos + jnp.array([0.0, 0.0, APPROACH])
+  # The task-space target moved by the part's present pose error: the target integrates
+  # the error, so the tool's tracking offset (gravity on the servos) and slip in the grip
+  # are taken out too.
+  def tool_for(pos, rot):
+    delta = rot @ part_rot[m].T
+    return (pos + rigid.apply(delta, targets.pos - part_pos[m]), delta @ targets.rot)
+  part_err = lambda pos, rot: (jnp.linalg.norm(part_pos[m] - pos),
+                               jnp.linalg.norm(arm_control.rotation_vector(rot @ part_rot[m].T)))
+  mt, mr = am.max_translation, am.max_rotation
+  phase, steps = expert.phase, expert.steps
+  lift_pos = jnp.concatenate([tool_pos[:2], carry_z[None] + (tool_pos[2] - part_pos[m][2])])
+  above_tool = tool_for(above, goal_rot)
+  goal_tool = tool_for(goal_pos, goal_rot)
+  # Carry at the carry height until over the mate, then down to `above`.
+  horizontal = jnp.linalg.norm((part_pos[m] - above)[:2])
+  high = above.at[2].set(jnp.maximum(above[2], carry_z))
+  carry_pos = jnp.where(horizontal > 0.02, high, above)
+  carry_tool = tool_for(carry_pos, goal_rot)
+  waypoints = [
+      (hover, grasp_rot, 1.0),
+      (grasp_pos, grasp_rot, DESCEND_GAIN),
+      (targets.pos, targets.rot, 1.0),
+      (lift_pos, targets.rot, 1.0),
+      (carry_tool[0], carry_tool[1], CARRY_GAIN),
+      (goal_tool[0], goal_tool[1], CARRY_GAIN),
+  ]
+  pos_d = jnp.stack([w[0] for w in waypoints])[phase]
+  rot_d = jnp.stack([w[1] for w in waypoints])[phase]
+  gain = jnp.array([w[2] for w in waypoints])[phase]
+  tool_action = _toward(targets, pos_d, rot_d, mt, mr, gain)
+  gripper = jnp.where(phase >= CLOSE, 1.0, -1.0)
+  connect = jnp.where(phase == INSERT, 1.0, -1.0)
+  # Phase changes.
+  at = lambda pos, rot: ((jnp.linalg.norm(tool_pos - pos) < POS_TOL)
+                         & (jnp.linalg.norm(arm_control.rotation_vector(rot @ tool_rot.T))
+                            < ROT_TOL))
+  carry_err = part_err(above, goal_rot)
+  advance = jnp.stack([
+      at(hover, grasp_rot),
+      at(grasp_pos, grasp_rot) | (steps > 40),
+      steps >= CLOSE_STEPS,
+      part_pos[m][2] > carry_z - 0.01,
+      (carry_err[0] < POS_TOL) & (carry_err[1] < ROT_TOL),
+      jnp.bool_(False),
+  ])[phase]
+  next_phase = jnp.where(advance, jnp.minimum(phase + 1, INSERT), phase)
+  grip_pos = rigid.apply(tool_rot.T, part_pos[m] - tool_pos)
+  grip_rot = tool_rot.T @ part_rot[m]
+  closing_done = (phase == CLOSE) & advance
+  expert = ExpertState(
+      phase=next_phase, steps=jnp.where(advance, 0, steps + 1),
+      grip_pos=jnp.where(closing_done, grip_pos, expert.grip_pos),
+      grip_rot=jnp.where(closing_done, grip_rot, expert.grip_rot))
+  action = jnp.concatenate([tool_action, gripper[None], connect[None]])
+  return action, expert
+
+
+def rollout(env, num_worlds, steps, seed=0, host_physics=False):
+  """Runs the expert in `num_worlds` worlds for up to `steps` control steps, stopping when
+  every world has ended its first episode. `host_physics`: step with
+  env.step_batch_host (MuJoCo's C physics) instead of MJX.
+
+  Returns:
+    (success (worlds,) bool: the world completed its first episode, steps it took (0 if
+    it did not), phase reached (worlds,) int).
+  """
+  plan_ = plan(env)
+
+  def policy(expert, state):
+    return jax.vmap(lambda e, s: act(env, plan_, e, s))(expert, state)
+
+  with env.precision():
+    policy = jax.jit(policy)
+    state = env.reset_batch(jax.random.PRNGKey(seed), num_worlds)
+    expert = jax.vmap(lambda _: initial_state())(jnp.arange(num_worlds))
+  done_at = np.zeros(num_worlds, dtype=int)
+  ended = np.zeros(num_worlds, dtype=bool)
+  phase = np.zeros(num_worlds, dtype=int)
+  for step in range(1, steps + 1):
+    with env.precision():
+      action, expert = policy(expert, state)
+    phase = np.where(ended, phase, np.asarray(expert.phase))
+    state = (env.step_batch_host if host_physics else env.step_batch)(state, action)
+    done = np.asarray(state.done)
+    success = np.asarray(state.metrics["success"])
+    done_at = np.where(~ended & done & success, step, done_at)
+    ended |= done
+    if ended.all():
+      break
+    # A world that ended starts its next episode; the expert starts over there too.
+    with env.precision():
+      fresh = jax.vmap(lambda _: initial_state())(jnp.arange(num_worlds))
+      expert = jax.tree.map(lambda a, b: jnp.where(
+          jnp.asarray(done).reshape((-1,) + (1,) * (a.ndim - 1)), a, b), fresh, expert)
+  return done_at > 0, done_at, phase

@@ -1,0 +1,65 @@
+"""The batched scripted arm expert (batch/arm_scripted.py) on the last-part task, per model.
+
+Each world starts with every part but one joined (load option preassembled = parts - 1,
+laid out by the CPU task's placement; batch/arm_model.py turns the joined group over when
+the last part goes in from below), and the expert grasps the loose part, carries it to its
+mate and connects. Prints, per model, the worlds that completed their first episode, the
+steps the slowest completed world took, and the wall time (model build and jit compile
+included); exits 1 if any model is below --min-success. The MJX implementation is
+backend.default_impl() (Warp on a GPU) unless --impl; --host-physics steps the physics
+with MuJoCo's C library instead (the CPU tests' path, tests/test_batch_arm.py).
+
+  python scripts/batch_arm_expert.py [--robot panda] [--worlds 1024] [--steps 260]
+      [--furniture table_four_leg_lack stool_square_pine bench_plank_pine]
+"""
+
+import argparse
+import sys
+import time
+
+import numpy as np
+
+from ikea_suite.batch import arm_env
+from ikea_suite.batch import arm_scripted
+from ikea_suite.batch import backend
+from ikea_suite.props import catalog
+
+FURNITURE = ("table_four_leg_lack", "stool_square_pine", "bench_plank_pine")
+
+
+def main(argv=None):
+  parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+  parser.add_argument("--robot", default="panda", choices=arm_env.ROBOTS)
+  parser.add_argument("--worlds", type=int, default=1024)
+  parser.add_argument("--steps", type=int, default=260)
+  parser.add_argument("--seed", type=int, default=0)
+  parser.add_argument("--min-success", type=float, default=0.9)
+  parser.add_argument("--furniture", nargs="*", default=list(FURNITURE))
+  parser.add_argument("--impl", default=None, choices=backend.IMPLS)
+  parser.add_argument("--host-physics", action="store_true")
+  args = parser.parse_args(argv)
+  impl = backend.check_impl(args.impl)
+  print(f"robot {args.robot}, {args.worlds} worlds, MJX impl {impl}"
+        f"{' (physics: MuJoCo C on the host)' if args.host_physics else ''}")
+  print(f"{'model':32s} {'parts':>5s} {'completed':>11s} {'rate':>6s} {'steps':>5s} "
+        f"{'wall s':>7s}", flush=True)
+  failed = []
+  for name in args.furniture:
+    start = time.time()
+    parts = len(catalog.spec(name).parts)
+    env = arm_env.load(name, args.robot, impl=impl, num_worlds=args.worlds,
+                       preassembled=parts - 1)
+    success, steps, _ = arm_scripted.rollout(env, args.worlds, args.steps, seed=args.seed,
+                                             host_physics=args.host_physics)
+    rate = float(np.mean(success))
+    print(f"{name:32s} {parts:5d} {f'{int(success.sum())}/{len(success)}':>11s} {rate:6.1%} "
+          f"{int(steps.max()):5d} {time.time() - start:7.1f}", flush=True)
+    if rate < args.min_success:
+      failed.append(name)
+  if failed:
+    print("below --min-success:", ", ".join(failed))
+  return 1 if failed else 0
+
+
+if __name__ == "__main__":
+  sys.exit(main())

@@ -1,0 +1,167 @@
+"""The batched task for the Panda on CPU: the model matches the CPU environment's, the jax
+forward kinematics MuJoCo's, task-space actions move the tool as the CPU env's do, the
+vector env serves the arm, and the batched scripted expert takes the last part.
+
+MJX's JAX implementation steps this model far too slowly for CI on a small CPU (see
+docs/batch.md), so the stepping tests run the device code with the physics stepped by
+MuJoCo's C library on the same compiled model (BatchArmAssembly.step_batch_host); one
+test traces MJX's own step to check that it builds."""
+
+import time
+
+import jax
+import numpy as np
+import pytest
+
+pytest.importorskip("mujoco.mjx")
+
+import ikea_suite   # noqa: E402
+from ikea_suite import errors   # noqa: E402
+from ikea_suite import observations   # noqa: E402
+from ikea_suite.batch import arm_control   # noqa: E402
+from ikea_suite.batch import arm_env   # noqa: E402
+from ikea_suite.batch import arm_scripted   # noqa: E402
+
+FURNITURE = "table_four_leg_lack"
+# The last-part task of the four-leg table: four of its five parts joined.
+OPTIONS = dict(preassembled=4, layouts=4)
+# The same task-space actions from home: while the target only moves (no turn), the tool of
+# a batched world stays within TRANSLATE_TOL (m) of the CPU env's; over the whole
+# sequence, turns included, their orientations within TOOL_ANGLE_TOL (rad) and the batched
+# tool within TRACK_TOL (m) of its own target. The solvers differ (arm_control.py): while
+# turning, the CPU's mink QP let its tool drift up to 77 mm from its unmoving position
+# target (its SE(3)-log error couples the turn into the translation), where the batched
+# tool stayed within 30 mm of its target throughout, most of it the servos' lag behind a
+# target that moves 20 mm a step (the CPU's tool lags as much while only moving).
+# Measured: 0.7 mm before the first turn, 10.5 degrees at most.
+TRANSLATE_TOL = 0.005
+TOOL_ANGLE_TOL = 0.2
+TRACK_TOL = 0.04
+
+
+@pytest.fixture(scope="module")
+def env():
+  return arm_env.load(FURNITURE, "panda", impl="jax", **OPTIONS)
+
+
+def _actions(steps):
+  """A task-space sequence: moves along each axis, turns about each, gripper open."""
+  out = np.zeros((steps, 8))
+  out[:, 6] = -1.0
+  out[:, 7] = -1.0
+  pattern = [(0, 0.8), (1, -0.8), (2, -0.6), (5, 0.8), (3, 0.5), (0, -0.6), (4, -0.5)]
+  for i in range(steps):
+    axis, value = pattern[(i // 4) % len(pattern)]
+    out[i, axis] = value
+  return out
+
+
+def test_model_matches_cpu(env):
+  cpu = ikea_suite.load(FURNITURE, "panda", seed=0, **{"preassembled": 4})
+  timestep = cpu.physics.model.opt.timestep
+  model = env.arm_model.model
+  assert model.opt.timestep == timestep
+  assert model.opt.cone == cpu.physics.model.opt.cone
+  assert model.opt.impratio == cpu.physics.model.opt.impratio
+  assert env.settings.substeps == cpu.task.config.substeps
+  assert env.settings.max_steps == cpu.task.config.max_steps
+  assert env.action_names == cpu.task.action_names
+  obs = env.reset_batch(jax.random.PRNGKey(0), 1).obs
+  cpu_obs = cpu.reset().observation
+  for key, value in cpu_obs.items():
+    assert key in obs, key
+    assert np.shape(value) == obs[key].shape[1:], key
+  assert set(obs) == set(cpu_obs)
+  for key in obs:
+    observations.spec(key, obs[key].shape[1:], env.num_parts)
+  # The home tool pose, by the jax forward kinematics.
+  np.testing.assert_allclose(obs["robot/tcp_positions"][0],
+                             cpu_obs["robot/tcp_positions"], atol=1e-6)
+
+
+def test_forward_kinematics_matches_mujoco(env):
+  import mujoco
+  am = env.arm_model
+  data = mujoco.MjData(am.model)
+  rng = np.random.default_rng(0)
+  for _ in range(3):
+    q = rng.uniform(am.joint_low, am.joint_high)
+    data.qpos[am.arm_qpos] = q
+    mujoco.mj_kinematics(am.model, data)
+    with env.precision():
+      pos, rot = arm_control.tool_pose(env.chain, jax.numpy.asarray(q))
+    np.testing.assert_allclose(pos, data.site_xpos[am.tcp_site], atol=1e-9)
+    np.testing.assert_allclose(rot.ravel(), data.site_xmat[am.tcp_site], atol=1e-9)
+
+
+def test_tool_motion_matches_cpu_env(env):
+  steps = 28
+  actions = _actions(steps)
+  cpu = ikea_suite.load(FURNITURE, "panda", seed=0, **{"preassembled": 4})
+  cpu.reset()
+  cpu_tool = []
+  for action in actions:
+    obs = cpu.step(action).observation
+    cpu_tool.append((obs["robot/tcp_positions"][0], obs["robot/tcp_quaternions"][0]))
+  state = env.reset_batch(jax.random.PRNGKey(0), 1)
+  errors_pos, errors_rot, track = [], [], []
+  for action, (cpu_pos, cpu_quat) in zip(actions, cpu_tool):
+    state = env.step_batch_host(state, action[None])
+    pos = np.asarray(state.obs["robot/tcp_positions"])[0, 0]
+    quat = np.asarray(state.obs["robot/tcp_quaternions"])[0, 0]
+    errors_pos.append(np.linalg.norm(pos - cpu_pos))
+    track.append(np.linalg.norm(pos - np.asarray(state.targets.pos)[0]))
+    errors_rot.append(2 * np.arccos(min(1.0, abs(float(np.dot(quat, cpu_quat))))))
+  moved = max(np.linalg.norm(pos - cpu_tool[0][0]) for pos, _ in cpu_tool)
+  turning = np.abs(actions[:, 3:6]).sum(1) > 0
+  first_turn = int(np.argmax(turning))
+  print(f"tool moved up to {moved:.3f} m; batched vs CPU before the first turn: "
+        f"{max(errors_pos[:first_turn]) * 1000:.1f} mm, over all: "
+        f"{max(errors_pos) * 1000:.1f} mm, {np.degrees(max(errors_rot)):.1f} deg; batched tool "
+        f"from its target: {max(track) * 1000:.1f} mm")
+  assert moved > 0.1
+  assert first_turn >= 8
+  assert max(errors_pos[:first_turn]) < TRANSLATE_TOL
+  assert max(errors_rot) < TOOL_ANGLE_TOL
+  assert max(track) < TRACK_TOL
+
+
+def test_bad_options():
+  with pytest.raises(errors.UnknownNameError):
+    arm_env.load(FURNITURE, "sawyer_x")
+  with pytest.raises(errors.OptionValueError):
+    arm_env.load(FURNITURE, "panda", control_mode="impedance")
+  with pytest.raises(errors.UnknownNameError):
+    arm_env.load(FURNITURE, "panda", cameras=("front",))
+
+
+def test_mjx_step_traces(env):
+  with env.precision():
+    state = jax.eval_shape(env.reset, jax.random.PRNGKey(0))
+    out = jax.eval_shape(env.step, state, np.zeros(env.action_size))
+  assert out.obs["robot/tcp_positions"].shape == (1, 3)
+
+
+def test_vector_env_for_the_panda():
+  import gymnasium
+  import ikea_suite.gym  # noqa: F401
+  vec = gymnasium.make_vec("ikea_suite/Assembly-v0", num_envs=2,
+                           vectorization_mode="vector_entry_point", furniture=FURNITURE,
+                           robot="panda", impl="jax", **OPTIONS)
+  assert vec.single_action_space.shape == (8,)
+  cpu = ikea_suite.load(FURNITURE, "panda", seed=0, preassembled=4)
+  cpu_obs = cpu.reset().observation
+  assert set(vec.single_observation_space.spaces) == set(cpu_obs)
+  for key, space in vec.single_observation_space.spaces.items():
+    assert space.shape == np.shape(cpu_obs[key]), key
+    assert space.dtype == np.asarray(cpu_obs[key]).dtype, key
+
+
+def test_scripted_expert_grasps_lifts_and_carries(env):
+  """In every world the expert closes the hand on the loose part and lifts it clear of the
+  floor to the carry height (phase CARRY), the part held in the fingers."""
+  start = time.time()
+  success, steps, phase = arm_scripted.rollout(env, 4, 140, seed=0, host_physics=True)
+  print(f"phases after 140 steps {phase.tolist()} ({time.time() - start:.0f} s); "
+        f"completed {int(success.sum())}/4")
+  assert (phase >= arm_scripted.CARRY).all(), phase
