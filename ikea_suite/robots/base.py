@@ -22,8 +22,9 @@ class ReachZone(NamedTuple):
   # The robot standing at its home pose, seen from above: an (n, 5) array, one row per
   # collision geom, (x low, y low, x high, y high) corners (m) of its box in the base frame
   # and the world z (m) of its lowest point. Parts and the panel rack keep clear of each
-  # box whose lowest point is not well above their top (a torso wider than min_distance
-  # leaves room for; an arm hanging at home over a standing panel); None: none.
+  # box whose lowest point lies less than the placement's gap above their top (a torso
+  # wider than min_distance leaves room for; an arm hanging at home over a standing
+  # panel); None: none.
   home_footprint: np.ndarray = None
 
 
