@@ -89,6 +89,20 @@ PAD_SOLMIX = 1000.0
 # surface's impedance win over a part's; pads (same solmix, same impedance) mix evenly.
 SUPPORT_SOLIMP = HARD_SOLIMP
 SUPPORT_SOLMIX = PAD_SOLMIX
+
+# Convex collision tolerance (m) of a scene whose parts rest on a box (a work table's top)
+# instead of the floor plane. A plane meets a part through MuJoCo's exact plane colliders;
+# a box meets a cylinder through the general convex collider (GJK/EPA, with several
+# contacts for a flat pair, MuJoCo's multiccd), which stops at its tolerance (default
+# 1e-6). At the default the contacts of a round leg lying on its side came 6-58 um to one
+# side of the line under its axis, and that lever alone rolled the leg over, 14-116
+# degrees in 2 s (work table, scale 0.5); at 1e-8 the leg lies still, but a pedestal
+# stool tipped onto its foot's rim still turned 1.6 degrees in 2 s; from 1e-9 on both
+# lie as on the floor, and 1e-10 leaves a decade of margin (no step-time cost measured:
+# a Sawyer episode on the table ran 117-128 steps/s at 1e-6, 1e-8 and 1e-10 alike). The
+# floor scene keeps the default: its parts touch only each other and the robot through
+# this collider, and its episodes (scripts/episode_hashes.py) change with the tolerance.
+BOX_SUPPORT_CCD_TOLERANCE = 1e-10
 _PLANE = 0   # mjGEOM_PLANE: the floor of a model file
 _ROUND_TYPES = (2, 3, 4, 5)   # mjGEOM_SPHERE, CAPSULE, ELLIPSOID, CYLINDER
 
@@ -97,6 +111,12 @@ def configure_arena(mjcf_root):
   """Writes the option block and arena size into the root MJCF of an environment."""
   mjcf_root.option.set_attributes(**OPTION)
   mjcf_root.size.memory = ARENA_MEMORY
+
+
+def configure_box_support(mjcf_root):
+  """Writes the convex collision tolerance of a scene whose parts rest on a box
+  (BOX_SUPPORT_CCD_TOLERANCE) into its root MJCF; configure_arena leaves it as set."""
+  mjcf_root.option.ccd_tolerance = BOX_SUPPORT_CCD_TOLERANCE
 
 
 def configure_contacts(model, geom_ids=None):

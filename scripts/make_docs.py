@@ -311,6 +311,8 @@ def physics_settings() -> str:
        "`PAD_SOLIMP`, `PAD_SOLMIX`"],
       ["floor and table top solimp, solmix", f"{nums(ps.SUPPORT_SOLIMP)}, {ps.SUPPORT_SOLMIX:g}",
        "`SUPPORT_SOLIMP`, `SUPPORT_SOLMIX`"],
+      ["convex collision tolerance on the work table", f"{ps.BOX_SUPPORT_CCD_TOLERANCE:g}",
+       "`BOX_SUPPORT_CCD_TOLERANCE`"],
   ]
   return markdown_table(["setting", "value", "name in physics_settings.py"], rows)
 

@@ -4,9 +4,11 @@ turns more than 1 degree between the first step and 2 s later (tasks/resting.py)
 Every catalog model is checked with the Cursor on the floor at scale 1, and one model of
 every family (the one with the most parts) with the Sawyer at its work scale (0.5): the
 arms share one placement (tasks/arm_placement.py), and the Sawyer's covers both of its
-paths, parts lying within reach and panels standing in the rack. The whole catalog with
-every arm would take minutes: benchmarks/rest_sweep.py runs that sweep (any robots, seeds,
-arena and duration).
+paths, parts lying within reach and panels standing in the rack. A few models each cover
+the work table (round legs lying on its box top, a pedestal tipped onto its foot's rim,
+panels in a rack standing on it) and the Baxter (its arms hanging at home over the band
+where parts lie). The whole catalog with every arm and arena would take minutes:
+benchmarks/rest_sweep.py runs that sweep (any robots, seeds, arena and duration).
 """
 
 import numpy as np
@@ -30,14 +32,26 @@ FAMILY_SAMPLE = [max(sorted(n for n in catalog.names(category=c) if catalog.entr
                  for c, f in catalog.families()]
 
 
-def _check_at_rest(name, robot, seed):
+# (model, seed) on the work table with the Sawyer: round legs that rolled on the box top
+# (MuJoCo's convex collider at its default tolerance; physics_settings), a pedestal lying
+# tipped onto its foot's rim, a round seat and back, and box walls in a rack on the table.
+WORK_TABLE_SAMPLE = [("stool_round_four_leg", 2), ("table_four_leg_w75_black", 2),
+                     ("stool_pedestal_birch_bar", 2), ("chair_back_white_round", 2),
+                     ("box_open_kuggis", 0)]
+# (model, seed) with the Baxter: a TV unit's 0.78 m panels standing in the rack, which its
+# forearms touched where they hang at home (seeds 1, 5), and a table (parts lying low).
+BAXTER_SAMPLE = [("tv_unit_open_dark_long", 1), ("tv_unit_open_dark_long", 5),
+                 ("table_four_leg_lack", 0)]
+
+
+def _check_at_rest(name, robot, seed, **options):
   scale = registry.get(robot).factory.CONFIG.WORK_SCALE
-  env = ikea_suite.load(name, robot, seed=seed, scale=scale)
+  env = ikea_suite.load(name, robot, seed=seed, scale=scale, **options)
   motion = resting.start_motion(env, seconds=2.0)
   env.close()
   assert motion.drift <= DRIFT_LIMIT and motion.turn <= TURN_LIMIT, (
-      f"{name} with the {robot}: {motion.worst_part} moved {motion.drift * 1000:.2f} mm and "
-      f"turned {np.degrees(motion.turn):.2f} degrees")
+      f"{name} with the {robot} {options}: {motion.worst_part} moved "
+      f"{motion.drift * 1000:.2f} mm and turned {np.degrees(motion.turn):.2f} degrees")
 
 
 @pytest.mark.parametrize("name", MODELS)
@@ -48,6 +62,16 @@ def test_every_part_starts_at_rest_on_the_floor_with_the_cursor(name):
 @pytest.mark.parametrize("name", FAMILY_SAMPLE)
 def test_every_part_starts_at_rest_in_an_arms_work_area(name):
   _check_at_rest(name, "sawyer", seed=MODELS.index(name))
+
+
+@pytest.mark.parametrize("name,seed", WORK_TABLE_SAMPLE)
+def test_every_part_starts_at_rest_on_the_work_table(name, seed):
+  _check_at_rest(name, "sawyer", seed, arena="work_table")
+
+
+@pytest.mark.parametrize("name,seed", BAXTER_SAMPLE)
+def test_every_part_starts_at_rest_in_the_baxters_work_area(name, seed):
+  _check_at_rest(name, "baxter", seed)
 
 
 def _turn_degrees(a, b):
@@ -125,18 +149,47 @@ def test_a_round_panel_stands_between_chocks_and_neither_rolls_nor_spins():
   assert motion.drift < DRIFT_LIMIT and motion.turn < TURN_LIMIT, motion
 
 
-def test_no_part_starts_against_the_baxters_torso():
-  """The torso is 0.67 m wide: a 0.8 m bed rail drawn beside it lay against it and was pushed."""
-  env = ikea_suite.load("bed_slatted_kids_dark_open", "baxter", seed=1, scale=0.5)
-  model = env.physics.model
-  for seed in (1, 2):
+def _touching_the_robot(env, robot):
+  """(body, body) pairs of a part and the robot in contact after one zero-action step."""
+  env.reset()
+  env.step(np.zeros(env.action_spec().shape))
+  model, data = env.physics.model, env.physics.data
+  parts = set(env.task.furniture.body_ids.tolist())
+  touching = {(model.id2name(model.geom_bodyid[c.geom1], "body"),
+               model.id2name(model.geom_bodyid[c.geom2], "body"))
+              for c in data.contact[:data.ncon]
+              if {model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2]} & parts}
+  return [pair for pair in touching if any(n.startswith(f"{robot}/") for n in pair)]
+
+
+@pytest.mark.parametrize("name,seeds", [
+    # The torso is 0.67 m wide: a 0.8 m bed rail drawn beside it lay against it and was pushed.
+    ("bed_slatted_kids_dark_open", (1, 2)),
+    # The arms hang at home over the band: the forearms touched 0.78 m panels in the rack.
+    ("tv_unit_open_dark_long", (1, 5, 8))])
+def test_no_part_starts_against_the_baxter(name, seeds):
+  env = ikea_suite.load(name, "baxter", seed=seeds[0], scale=0.5)
+  for seed in seeds:
     env.random_state.seed(seed)
-    env.reset()
-    env.step(np.zeros(env.action_spec().shape))
-    parts = set(env.task.furniture.body_ids.tolist())
-    data = env.physics.data
-    touching = {(model.id2name(model.geom_bodyid[c.geom1], "body"),
-                 model.id2name(model.geom_bodyid[c.geom2], "body"))
-                for c in data.contact[:data.ncon]
-                if {model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2]} & parts}
-    assert not [pair for pair in touching if any(n.startswith("baxter/") for n in pair)], touching
+    assert not _touching_the_robot(env, "baxter"), (name, seed)
+
+
+@pytest.mark.parametrize("robot", registry.names("arm"))
+def test_an_arms_home_footprint_holds_its_body_and_its_hanging_tools(robot):
+  """The placement keeps parts clear of the robot where it stands at home: its footprint
+  has a box over each tool's home position, as low as the tool (within the fingers'
+  length), and one round the base that reaches the floor."""
+  env = ikea_suite.load("table_four_leg_lack", robot, seed=0)
+  env.reset()
+  arm = env.task.robot
+  footprint = arm.reach_zone.home_footprint
+  base_pos, base_rot = arm.base_pose
+  assert footprint.ndim == 2 and footprint.shape[1] == 5
+  for tool in arm.tool_positions(env.physics):
+    local = base_rot[:2, :2].T @ (tool[:2] - base_pos[:2])
+    over = ((footprint[:, 0] <= local[0]) & (local[0] <= footprint[:, 2])
+            & (footprint[:, 1] <= local[1]) & (local[1] <= footprint[:, 3]))
+    assert over.any() and abs(footprint[over, 4].min() - tool[2]) < 0.06, (robot, tool)
+  at_base = (footprint[:, 0] <= 0) & (0 <= footprint[:, 2]) & (footprint[:, 1] <= 0) & (
+      0 <= footprint[:, 3])
+  assert footprint[at_base, 4].min() <= base_pos[2] + 1e-6

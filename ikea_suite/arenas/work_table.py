@@ -15,12 +15,17 @@ arm sometimes pushes the growing assembly out past its reach: on a top ending
 Sawyer episodes (development seeds 0-5); 1.2 m out they stay on the top.
 
 Cameras keep the floor arena's views, moved to look at the table top's centre.
-Everything here is static world geometry (no bodies), like the floor.
+Everything here is static world geometry (no bodies), like the floor. The top is a box,
+which parts touch through MuJoCo's general convex collider rather than the floor's exact
+plane colliders, so the scene tightens that collider's tolerance
+(physics_settings.BOX_SUPPORT_CCD_TOLERANCE: at the default a round leg lying on the top
+rolled over); parts then rest on the top as on the floor.
 """
 
 import numpy as np
 
 from ikea_suite import geometry
+from ikea_suite import physics_settings
 from ikea_suite.arenas import floor
 from ikea_suite.arenas import support as support_lib
 
@@ -48,6 +53,7 @@ class WorkTableArena(floor.FloorArena):
              size=TABLE_SIZE, floor_size=(4.0, 4.0)):
     super()._build(name=name, size=floor_size)
     root = self._mjcf_root
+    physics_settings.configure_box_support(root)
     rot = geometry.rot_z(base_yaw)
     heading = rot[:2, 0]
     base_xy = np.asarray(base_xy, dtype=float)

@@ -19,9 +19,13 @@ class ReachZone(NamedTuple):
   # (bearing, metres): beyond that bearing from the heading parts may lie out to that
   # distance instead of `reach`; None: `reach` at every bearing.
   side_reach: tuple = None
-  # ((x, y) low, (x, y) high) corners (m) of the robot body's footprint in the base frame,
-  # which parts keep clear of (a torso wider than min_distance leaves room for); None: none.
-  body: tuple = None
+  # The robot standing at its home pose, seen from above: an (n, 5) array, one row per
+  # collision geom, (x low, y low, x high, y high) corners (m) of its box in the base frame
+  # and the world z (m) of its lowest point. Parts and the panel rack keep clear of each
+  # box whose lowest point lies less than the placement's gap above their top (a torso
+  # wider than min_distance leaves room for; an arm hanging at home over a standing
+  # panel); None: none.
+  home_footprint: np.ndarray = None
 
 
 class Robot(composer.Entity, abc.ABC):

@@ -42,9 +42,6 @@ class Baxter(manipulator.Manipulator):
   # dropped near them lay out of reach; 0.55 m out: 64 of 90 episodes over 9 models
   # against 53 (tables 4 -> 6-8 of 10, the round bar stool 10 -> 7).
   ROOT_DISTANCE = 0.55
-  # The torso's collision box is 0.67 m wide: a 0.8 m bed rail drawn beside it, its centre
-  # 0.62 m out, lay against it and was pushed (bed_slatted_kids_dark_open, seed 1).
-  BODY_FOOTPRINT = robot_facts.collision_footprint("baxter", "torso")
 
   def _build_body(self, name):
     root, elements, limits = robot_facts.build_model(

@@ -51,6 +51,36 @@ def single_arm(root, elements, limits, joints, gripper_spec, seed, home_tcp, wor
       home_tcp=np.array(home_tcp), workspace=np.array(workspace_box))
 
 
+def home_footprint(model, home_q, base_height):
+  """The robot at its home pose seen from above, for the part placement (base.ReachZone).
+
+  Measured on the robot's own compiled model, whose world frame is the base frame: a
+  Baxter's arms hang at home over the band where parts lie, and its forearms touched a
+  0.78 m panel standing in the rack there (tv_unit_open_dark_long at scale 0.5), so the
+  placement keeps clear of every collision geom where it stands at home, not only of the
+  torso.
+
+  Args:
+    model: the robot's compiled mujoco.MjModel (robots.ik.DifferentialIK.model).
+    home_q: its qpos at the home pose.
+    base_height: world z (m) of the base.
+  Returns:
+    (geoms, 5) array: per collision geom, the (x low, y low, x high, y high) corners (m) of
+    its bounding box in the base frame, and the world z (m) of its lowest point.
+  """
+  data = mujoco.MjData(model)
+  data.qpos[:] = home_q
+  mujoco.mj_kinematics(model, data)
+  rows = []
+  for g in np.flatnonzero((model.geom_contype != 0) | (model.geom_conaffinity != 0)):
+    centre, half = model.geom_aabb[g, :3], model.geom_aabb[g, 3:]
+    corners = (geometry.box_corners(centre - half, centre + half)
+               @ data.geom_xmat[g].reshape(3, 3).T + data.geom_xpos[g])
+    rows.append([*corners[:, :2].min(0), *corners[:, :2].max(0),
+                 base_height + corners[:, 2].min()])
+  return np.array(rows).reshape(-1, 5)
+
+
 class Manipulator(base.Robot):
   """An arm robot on a fixed base; see control_modes for the action of each mode.
 
@@ -73,9 +103,6 @@ class Manipulator(base.Robot):
   PLACEMENT_SECTOR = np.radians(110)
   # (bearing, metres): parts beyond that bearing may lie out that far (base.ReachZone).
   PLACEMENT_SIDE_REACH = None
-  # The body's footprint parts keep clear of (base.ReachZone.body); None: an arm's pedestal
-  # lies well within PLACEMENT_INNER.
-  BODY_FOOTPRINT = None
   KP_PER_NM = 10.0               # position gain per N m of torque limit
   VELOCITY_LIMIT = 2.0           # rad/s per joint in the IK
   # {arm joint index: (low, high) rad} the task-space IK keeps within, inside the physical
@@ -110,6 +137,7 @@ class Manipulator(base.Robot):
     self._ik = ik.DifferentialIK(self._mjcf_root, tcp_sites, arm_joints, self.VELOCITY_LIMIT,
                                  working_ranges=working)
     self._home_q = self._home_configuration()
+    self._home_footprint = home_footprint(self._ik.model, self._home_q, self._base_pos[2])
     self._ik.set_posture(self._home_q)
     self._home_rot = [rot for _, rot in self._ik.tcp_poses(self._home_q)]
     # Arm actuators after the home pose, which impedance's posture spring pulls towards
@@ -223,7 +251,7 @@ class Manipulator(base.Robot):
     return base.ReachZone(self._base_pos[:2].copy(), self._base_rot.copy(), float(self.REACH),
                           float(self.PLACEMENT_SECTOR), float(self.PLACEMENT_INNER),
                           float(self.ROOT_DISTANCE), len(self._arms), self.PLACEMENT_SIDE_REACH,
-                          self.BODY_FOOTPRINT)
+                          self._home_footprint.copy())
 
   def mount(self, arena):
     frame = arena.attach(self)

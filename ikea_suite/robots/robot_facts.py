@@ -32,16 +32,6 @@ def load(name):
   return json.loads(path.read_text())
 
 
-def collision_footprint(name, body):
-  """((x, y) low, (x, y) high) corners (m) of a body's collision geometry seen from above, in
-  the body's frame: the bounds of the whole-link mesh its collision shapes are fitted to
-  (the uncoloured entry, as _fitted_collision_geoms reads it), which hold them all."""
-  entry = next(b for b in load(name)["bodies"] if b["name"] == body)
-  piece = next(p for p in entry["visual_mesh_bounds"] if p.get("rgba") is None)
-  low, high = (np.asarray(b, dtype=float)[:2] for b in piece["bounds_in_body"])
-  return (tuple(low.tolist()), tuple(high.tolist()))
-
-
 def actuator_limits(facts):
   """Joint name -> (low, high) of the sheet's motor or position control range."""
   return {a["joint"]: tuple(float(x) for x in a["ctrlrange"].split()) for a in facts["actuators"]}

@@ -74,18 +74,21 @@ class ReachableParts(placement.PartInitializer):
       has parts on its own side to bring.
     side_reach: (bearing, metres): beyond that bearing from the heading, loose parts lie
       out to that distance instead of `reach`; None: `reach` at every bearing.
-    body: ((x, y) low, (x, y) high) of the robot body's footprint in the base frame, which
-      every part's footprint keeps `gap` clear of; None: none.
+    home_footprint: the robot at its home pose seen from above (base.ReachZone's: per
+      collision geom, (x low, y low, x high, y high) in the base frame and its lowest
+      world z); every part's footprint, and the rack's, keeps `gap` clear of each box
+      whose lowest point is less than `gap` above the part's top. None: none.
   Raises:
     OptionValueError: spread wider than the reach allows, or a root part wider than the support.
   """
 
   def __init__(self, furniture, base_xy, base_rot, reach, min_distance, root_distance, sector,
                spread, yaw_range, preassembled, support=support_lib.FLOOR, arms=1,
-               side_reach=None, body=None, inner=0.2, gap=0.03,
+               side_reach=None, home_footprint=None, inner=0.2, gap=0.03,
                root_jitter=(0.03, np.radians(15)), max_attempts=200):
     self._furniture = furniture
-    self._body = None if body is None else np.asarray(body, dtype=float)
+    self._footprint = (np.zeros((0, 5)) if home_footprint is None
+                       else np.asarray(home_footprint, dtype=float).reshape(-1, 5))
     self._base_rot = np.asarray(base_rot, dtype=float)
     self._arms, self._side_reach = arms, side_reach
     self._support = support
@@ -174,6 +177,11 @@ class ReachableParts(placement.PartInitializer):
     centre = (corners[:, :2].max(0) + corners[:, :2].min(0)) / 2
     return corners, centre, np.linalg.norm(corners[:, :2] - centre, axis=1).max()
 
+  @staticmethod
+  def _item_top(corners):
+    """Height (m) above the support of the top of a group laid with these corners."""
+    return float(np.ptp(corners[:, 2])) + resting.LANDING
+
   def _place(self, physics, item, yaw_rot, xy):
     corners, centre, _ = self._item_footprint(item, yaw_rot)
     shift = np.array([*(xy - centre),
@@ -191,12 +199,13 @@ class ReachableParts(placement.PartInitializer):
       root_item = [(self._root, self._rests[self._root].rotation, np.zeros(3))]
     offset, yaw_jitter = self._root_jitter
     yaw_rot = geometry.rot_z(self._heading + random_state.uniform(-yaw_jitter, yaw_jitter))
-    _, _, radius = self._item_footprint(root_item, yaw_rot)
+    corners, _, radius = self._item_footprint(root_item, yaw_rot)
+    top = self._item_top(corners)
     forward = np.array([np.cos(self._heading), np.sin(self._heading)])
     distance = self._root_out(radius)
     xy = self._base_xy + forward * distance + random_state.uniform(-offset, offset, 2)
-    # A wide root moves out along the heading until it lies on the table, clear of the body.
-    while not self._support.contains(xy, radius) or not self._clear_of_body(xy, radius):
+    # A wide root moves out along the heading until it lies on the table, clear of the robot.
+    while not self._support.contains(xy, radius) or not self._clear_of_robot(xy, radius, top):
       distance += 0.02
       xy = self._base_xy + forward * distance
       if distance > self._support.farthest_from(self._base_xy):
@@ -207,7 +216,7 @@ class ReachableParts(placement.PartInitializer):
     racked = set(self.racked_parts) & {item[0][0] for item in items if len(item) == 1}
     if self._racked.rack is not None:   # the rack across a radius from the base, in the band
       radius = self._racked.radius
-      xy = self._sample_xy(random_state, radius, placed, reach=np.sqrt(max(
+      xy = self._sample_xy(random_state, radius, placed, self._racked.height, reach=np.sqrt(max(
           0.0, (self._reach - panel_placement.RACK_SPARE) ** 2 - self._racked.farthest_slot ** 2)))
       away = xy - self._base_xy
       self._racked.place(physics, self._furniture, xy, np.arctan2(away[1], away[0]) + np.pi / 2,
@@ -221,25 +230,31 @@ class ReachableParts(placement.PartInitializer):
       if any(i == self._root for i, _, _ in item) or (len(item) == 1 and item[0][0] in racked):
         continue
       yaw_rot = geometry.rot_z(random_state.uniform(-self._yaw_range, self._yaw_range))
-      _, _, radius = self._item_footprint(item, yaw_rot)
-      xy = self._sample_xy(random_state, radius, placed, side=side)
+      corners, _, radius = self._item_footprint(item, yaw_rot)
+      xy = self._sample_xy(random_state, radius, placed, self._item_top(corners), side=side)
       side = None if side is None else -side
       self._place(physics, item, yaw_rot, xy)
       placed.append((xy, radius))
 
-  def _clear_of_body(self, xy, radius):
-    """Whether a footprint of `radius` about `xy` keeps `gap` clear of the robot's body."""
-    if self._body is None:
+  def _clear_of_robot(self, xy, radius, top):
+    """Whether a footprint of `radius` about `xy`, `top` (m) high above the support, keeps
+    `gap` clear of the robot at its home pose: of every box of its home footprint whose
+    lowest point is less than `gap` above that top. The Baxter's torso is 0.67 m wide (a
+    0.8 m bed rail drawn beside it, its centre 0.62 m out, lay against it and was pushed);
+    its arms hang at home over the band where parts lie, their grippers 0.35 m above it."""
+    low = self._footprint[:, 4] - self._support.height < top + self._gap
+    if not low.any():
       return True
+    boxes = self._footprint[low]
     local = self._base_rot[:2, :2].T @ (np.asarray(xy) - self._base_xy)
-    outside = np.maximum(np.maximum(self._body[0] - local, local - self._body[1]), 0.0)
-    return bool(np.linalg.norm(outside) >= radius + self._gap)
+    outside = np.maximum(np.maximum(boxes[:, 0:2] - local, local - boxes[:, 2:4]), 0.0)
+    return bool((np.linalg.norm(outside, axis=1) >= radius + self._gap).all())
 
-  def _sample_xy(self, random_state, radius, placed, reach=None, side=None):
-    """A free xy for an item of `radius`, between the nearest distance allowed and `reach`
-    (default the band's outer edge; given, it may leave a band only 1 cm wide); with
-    `side` (+1 left, -1 right of the heading), in that half of the sector if it has room
-    within reach, else in the other half."""
+  def _sample_xy(self, random_state, radius, placed, top, reach=None, side=None):
+    """A free xy for an item of `radius`, `top` (m) high, between the nearest distance
+    allowed and `reach` (default the band's outer edge; given, it may leave a band only
+    1 cm wide); with `side` (+1 left, -1 right of the heading), in that half of the
+    sector if it has room within reach, else in the other half."""
     nearest = max(self._min_distance, self._inner + radius)
     outer = max(self._reach, nearest + 0.1) if reach is None else max(reach, nearest + 0.01)
     # A wide table top leaves one half room for a single leg: its second one spilled out
@@ -260,7 +275,7 @@ class ReachableParts(placement.PartInitializer):
           xy = self._base_xy + distance * np.array([np.cos(angle), np.sin(angle)])
           if (all(np.linalg.norm(xy - other) > radius + other_r + self._gap
                   for other, other_r in placed) and self._support.contains(xy, radius)
-              and self._clear_of_body(xy, radius)):
+              and self._clear_of_robot(xy, radius, top)):
             return xy
       if self._side_reach and reach is None and not further:
         further = self._side_reach[1] - self._reach   # out at the sides, still within reach
@@ -279,4 +294,4 @@ def for_reach_zone(furniture, reach_zone, support, spread, yaw_range, preassembl
                         reach_zone.min_distance, reach_zone.root_distance, reach_zone.sector,
                         spread=spread, yaw_range=yaw_range, preassembled=preassembled,
                         support=support, arms=reach_zone.arms, side_reach=reach_zone.side_reach,
-                        body=reach_zone.body)
+                        home_footprint=reach_zone.home_footprint)

@@ -138,6 +138,13 @@ class RackedPanels:
     """Radius (m) of the rack's footprint about its centre."""
     return float(np.linalg.norm(self.rack.half_size))
 
+  @property
+  def height(self):
+    """Height (m) above the surface the rack stands on of its tallest panel's top, stood
+    upright (a leaning panel's is lower)."""
+    return float(panel_rack.PLATE + slot_sizes(self._spec, self._panels)[:, 2].max()
+                 + resting.LANDING)
+
   def place(self, physics, furniture, xy, yaw, height, random_state, skip=()):
     """Sets the rack at world `xy` turned by `yaw` on a surface at `height`, and stands each
     panel (but those in `skip`, placed otherwise: preassembled) in its slot, turned half

@@ -17,7 +17,9 @@ not at rest laid that way:
 Such a part starts instead in the pose it comes to rest in, found by simulating it alone,
 once per model (cached): on a plane, or standing in its rack, with the task's physics
 configuration (physics_settings: the parts' contacts and the support's hard ones).
-Nothing in the physics changes, only where a part starts.
+Nothing in the physics changes, only where a part starts. A work table's top, a box,
+rests parts as the plane does (physics_settings.BOX_SUPPORT_CCD_TOLERANCE), so the
+poses found on the plane hold there too.
 
 A part is not at rest where, after landing (LANDED_AFTER), it moves more than REST_DRIFT
 or turns more than REST_TURN in the next CHECK_TIME, or where it landed on a cylinder's
