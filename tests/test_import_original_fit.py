@@ -8,6 +8,7 @@ import pytest
 from ikea_suite.assembly import sequence
 from ikea_suite.design import decompose
 from ikea_suite.design import validate
+from ikea_suite.design.original import cli
 from ikea_suite.design.original import convert
 from ikea_suite.props import model_format
 from ikea_suite.tasks import planner
@@ -99,3 +100,35 @@ def test_an_overlap_made_by_pairing_connectors_against_the_files_geometry_is_not
       in result.notes
   report = validate.check(result.path)
   assert any(p.startswith("overlap: ") for p in report.problems), report.problems
+
+
+def _plan(path):
+  spec = model_format.load_spec(str(path))
+  steps = sequence.plan(spec, planner.root_part(spec), sequence.HOLD_LIFT)
+  return spec, {spec.parts[s.part].name: np.asarray(s.waypoints) for s in steps}
+
+
+def test_a_part_that_fits_with_no_air_leaves_by_sliding_along_the_faces_it_touches(tmp_path):
+  # The post touches all four walls of its socket: no path keeps air round it.
+  result = convert.convert(original_models.post_in_socket(tmp_path), tmp_path / "out")
+  assert validate.check(result.path).ok
+  _, paths = _plan(result.path)
+  entry = paths["post"][0]
+  assert entry[2] > 0.05 and np.allclose(entry[:2], 0.0)   # straight up out of the socket
+  assert cli.oracle_result(result.path, seed=0).startswith("ok, ")
+
+
+def test_splayed_legs_leave_their_sleeves_along_their_own_tilted_axes(tmp_path):
+  result = convert.convert(original_models.stool_with_sleeves(tmp_path), tmp_path / "out")
+  report = validate.check(result.path)
+  assert report.ok, report.problems
+  spec, paths = _plan(result.path)
+  assert sorted(paths) == ["leg0", "leg1", "leg2", "leg3"]
+  for name, waypoints in paths.items():
+    part = spec.parts[spec.part_index(name)]
+    axis = part.rot[:, 2]   # the leg's long axis, 20 degrees off vertical
+    assert np.degrees(np.arccos(abs(axis[2]))) == pytest.approx(20.0, abs=0.1)
+    assert len(waypoints) == 2   # one straight leg, along the leg, out and down
+    direction = waypoints[0] / np.linalg.norm(waypoints[0])
+    np.testing.assert_allclose(direction, -axis, atol=1e-6)
+  assert cli.oracle_result(result.path, seed=0).startswith("ok, ")
