@@ -522,3 +522,20 @@ def _rotation(quat):
   return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
                    [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
                    [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def box_with_wide_mesh_front(directory, overlap, name="box_mesh_front"):
+  """box_with_wide_front whose front panel collides through its own (convex) mesh, seen
+  too, `overlap` metres too wide at each end: a mesh part overlapping two others."""
+  path = box_with_wide_front(directory, overlap, name)
+  folder = pathlib.Path(directory) / name
+  folder.mkdir(parents=True, exist_ok=True)
+  trimesh.creation.box(extents=(0.4 + 2 * overlap, 0.02, 0.1)).export(folder / "front.stl")
+  text = path.read_text().replace(
+      '<geom name="noviz_collision_front_0" type="box" size="{:.6g} 0.01 0.05" density="500"/>'
+      .format(0.2 + overlap),
+      '<geom name="front_mesh" type="mesh" mesh="front" density="500"/>')
+  text = text.replace("<worldbody>", f'<asset>\n    <mesh name="front" file="{name}/front.stl"/>\n'
+                      "  </asset>\n  <worldbody>", 1)
+  path.write_text(text)
+  return path

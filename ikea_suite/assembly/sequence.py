@@ -15,7 +15,8 @@ reverse of a mate's insertion direction, tilted where the mate is: a splayed
 leg leaves its seat along the leg), straight or as the first leg of a two-leg
 path; and, last, paths on which the part slides along faces it touches (a ring
 round a stool's legs, a leg held between a bench's top and its frame), with no
-air kept but never cutting in deeper than `PENETRATION`. Furniture that the
+air kept but never cutting in deeper than `PENETRATION` (more than a pair of
+parts already overlaps assembled). Furniture that the
 first kinds of path take apart gets the same plan as before they existed.
 
 Plain MuJoCo on the furniture's document (the spec's, scaled as it is) does the
@@ -82,6 +83,18 @@ class _Scene:
     self.home = [self.data.qpos[a:a + 3].copy() for a in self.qadr]
     self.bounds = [self._world_box(i, spec.parts[i]) for i in range(len(spec.parts))]
     self.mate_axes = [_mate_axes(spec, i) for i in range(len(spec.parts))]
+    self.seated = self._seated_overlaps()
+
+  def _seated_overlaps(self):
+    """{(body, body): metres} how deep each pair of parts already overlaps assembled (a
+    model may keep overlaps under validation's tolerance, deeper than PENETRATION)."""
+    self.place(set(range(len(self.body))))
+    mujoco.mj_fwdPosition(self.model, self.data)
+    out = {}
+    for c in self.data.contact[:self.data.ncon]:
+      pair = tuple(sorted((int(self.model.geom_bodyid[c.geom1]), int(self.model.geom_bodyid[c.geom2]))))
+      out[pair] = max(out.get(pair, 0.0), -float(c.dist))
+    return out
 
   def _world_box(self, i, part):
     return part.assembled_corners() + self.lift
@@ -100,8 +113,10 @@ class _Scene:
     body = self.body[part]
     limit = self.air if np.linalg.norm(offset) > NEAR else -PENETRATION
     for c in self.data.contact[:self.data.ncon]:
-      if c.dist < limit and body in (self.model.geom_bodyid[c.geom1],
-                                            self.model.geom_bodyid[c.geom2]):
+      ends = (self.model.geom_bodyid[c.geom1], self.model.geom_bodyid[c.geom2])
+      # Sliding along what it touches, a part may stay as deep in a neighbour as it sits.
+      below = self.seated.get(tuple(sorted(map(int, ends))), 0.0) if self.air < 0 else 0.0
+      if c.dist < limit - below and body in ends:
         self.data.qpos[adr:adr + 3] = self.home[part] + self.lift
         return True
     self.data.qpos[adr:adr + 3] = self.home[part] + self.lift
