@@ -502,3 +502,16 @@ def test_without_recursion_only_the_folders_own_files_are_read(tmp_path, capsys)
   assert cli.main([str(tmp_path / "src"), "--out", str(tmp_path / "out"), "--no-oracle",
                    "--no-recursive"]) == 0
   assert "1/1 models converted" in capsys.readouterr().out
+
+
+def test_several_seeds_are_summed_up_in_one_oracle_cell(tmp_path, monkeypatch, capsys):
+  outcomes = {0: "ok, 700 steps", 1: "ok, 650 steps", 2: "FAIL, 3/4 connections"}
+  monkeypatch.setattr(cli, "oracle_result", lambda path, seed: outcomes[seed])
+  assert cli.oracle_results(tmp_path / "m.xml", [0, 1]) == "ok, 2/2 seeds, 650-700 steps"
+  assert cli.oracle_results(tmp_path / "m.xml", [0, 1, 2]) == (
+      "FAIL on 1/3 seeds: seed 2 FAIL, 3/4 connections")
+  assert cli.oracle_results(tmp_path / "m.xml", [2]) == "FAIL, 3/4 connections"
+  original_models.table(tmp_path / "src")
+  assert cli.main([str(tmp_path / "src"), "--out", str(tmp_path / "out"), "--seed", "0", "1"]) == 0
+  row = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("table_test"))
+  assert row.split("|")[-1].strip() == "ok, 2/2 seeds, 650-700 steps"

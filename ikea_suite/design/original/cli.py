@@ -7,8 +7,8 @@ Each SRC is an original-format XML file or a folder of them (with its subfolders
 unless --no-recursive; a file from a subfolder is written to the same subfolder
 of --out and named by its path in the table). Every model is
 converted (see ikea_suite.design.original.convert), checked by our
-validation (ikea_suite.design.validate) and assembled once by the Cursor
-oracle; a table per model follows, then the repairs made and, for every
+validation (ikea_suite.design.validate) and assembled by the Cursor oracle,
+once per --seed; a table per model follows, then the repairs made and, for every
 model that could not be converted, the reason. Exit status 0 when every
 model converted, validated and was assembled, else 1; 2 for bad arguments.
 Use the result with `ikea_suite.register_models(DIR)` or
@@ -111,15 +111,38 @@ def oracle_result(path: pathlib.Path, seed: int) -> str:
   return f"FAIL, {summary['connections']}/{summary['needed']} connections"
 
 
-def process(source: pathlib.Path, out: str, material: str | None, category: str, seed: int,
-            run_oracle: bool = True, subfolder: pathlib.Path = pathlib.Path()) -> Row:
+def oracle_results(path: pathlib.Path, seeds: list[int]) -> str:
+  """Cursor oracle episodes on a model file, one per seed, summed up in one cell.
+
+  Args:
+    path: the converted model file.
+    seeds: the episodes' seeds.
+
+  Returns:
+    oracle_result's text for one seed; for several, 'ok, K/K seeds, A-B steps' when every
+    episode assembles it, else 'FAIL on J/K seeds' and each failing seed's result.
+  """
+  results = {seed: oracle_result(path, seed) for seed in seeds}
+  if len(seeds) == 1:
+    return results[seeds[0]]
+  failed = {seed: r for seed, r in results.items() if not r.startswith("ok")}
+  if not failed:
+    steps = [int(r.split()[1]) for r in results.values()]
+    return f"ok, {len(seeds)}/{len(seeds)} seeds, {min(steps)}-{max(steps)} steps"
+  return (f"FAIL on {len(failed)}/{len(seeds)} seeds: "
+          + "; ".join(f"seed {seed} {r}" for seed, r in failed.items()))
+
+
+def process(source: pathlib.Path, out: str, material: str | None, category: str,
+            seed: int | list[int], run_oracle: bool = True,
+            subfolder: pathlib.Path = pathlib.Path()) -> Row:
   """Converts, validates and (optionally) assembles one model.
 
   Args:
     source: the original-format XML file.
     out: the output folder.
     material, category: as for convert.convert.
-    seed: the oracle episode's seed.
+    seed: the oracle episode's seed, or a list of seeds (one episode each).
     run_oracle: False to skip the oracle.
     subfolder: where under `out` the model is written (and how its row names it).
 
@@ -140,7 +163,8 @@ def process(source: pathlib.Path, out: str, material: str | None, category: str,
   row.notes = result.notes
   report = validate.check(result.path)
   row.validation = "ok" if report.ok else "FAIL: " + "; ".join(report.problems)
-  row.oracle = oracle_result(result.path, seed) if run_oracle else SKIPPED
+  seeds = [seed] if isinstance(seed, int) else list(seed)
+  row.oracle = oracle_results(result.path, seeds) if run_oracle else SKIPPED
   return row
 
 
@@ -175,7 +199,8 @@ def main(argv: list[str] | None = None) -> int:
                       help="give every part this material's density (default: the original masses)")
   parser.add_argument("--category", default=convert.DEFAULT_CATEGORY,
                       help="catalog category written in each model's metadata")
-  parser.add_argument("--seed", type=int, default=0, help="seed of the oracle's episode")
+  parser.add_argument("--seed", type=int, nargs="+", default=[0],
+                      help="seeds of the oracle's episodes, one episode each (default: 0)")
   parser.add_argument("--no-oracle", action="store_true", help="skip the Cursor oracle check")
   parser.add_argument("--recursive", action=argparse.BooleanOptionalAction, default=True,
                       help="read the *.xml files of a folder's subfolders too, writing each "
