@@ -515,3 +515,16 @@ def test_several_seeds_are_summed_up_in_one_oracle_cell(tmp_path, monkeypatch, c
   assert cli.main([str(tmp_path / "src"), "--out", str(tmp_path / "out"), "--seed", "0", "1"]) == 0
   row = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("table_test"))
   assert row.split("|")[-1].strip() == "ok, 2/2 seeds, 650-700 steps"
+
+
+def test_a_file_cut_short_is_named_incomplete(tmp_path):
+  text = original_models.table(tmp_path).read_text()
+  path = tmp_path / "table_cut.xml"
+  path.write_text(text[:text.index("<body name=\"leg2\"") + 30])   # ends inside a tag
+  with pytest.raises(errors.ConversionError, match=r"not well-formed XML: .*\(it ends "
+                     r"mid-element: an incomplete file\)"):
+    convert.convert(path, tmp_path / "out")
+  path.write_text(text.replace("<worldbody>", "<worldbody><oops>", 1))   # broken, not short
+  with pytest.raises(errors.ConversionError) as info:
+    convert.convert(path, tmp_path / "out")
+  assert "incomplete" not in str(info.value)
