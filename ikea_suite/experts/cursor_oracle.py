@@ -31,14 +31,15 @@ _GRAB_RANGE = 0.02     # metres from the grasp point at which a cursor selects
 LIFT = sequence.HOLD_LIFT   # the assembly is held this high: parts on the floor pass beneath
 _FLOOR_CLEARANCE = 0.25   # metres above the floor parts are carried (lying parts are lower)
 _STUCK_STEPS = 80      # steps without progress at one target before backing off
-# Hung from a light bracket, a heavy assembly swings or sags in the grip's soft weld and
-# never settles in place. When the part the base cursor holds weighs less than _LIGHT_HOLD
-# of its assembly and the assembly, in place, stays turned more than _SAG from its pose for
-# _SAG_STEPS steps while the other cursor is free, the base cursor moves its grip to the
-# assembly's heaviest part.
+# Hung from a light bracket, a heavy assembly swings or sags in the grip's soft weld; hung
+# from a slender post, it turns about the post's axis, which the grip barely turns. Either
+# way it never settles in place. When the part the base cursor holds weighs less than
+# _LIGHT_HOLD of its assembly or is slender, and the assembly, in place, stays turned more
+# than _SAG from its pose for _SAG_STEPS steps while the other cursor is free, the base
+# cursor moves its grip to the assembly's heaviest part.
 _LIGHT_HOLD = 0.25
 _SAG = 0.15          # radians
-_SAG_STEPS = 20
+_SAG_STEPS = 5
 
 
 class Phase(enum.Enum):
@@ -125,13 +126,17 @@ class CursorOracle:
     action[base + 3:base + 6] = turn_cmd
     return np.linalg.norm(error_pos), np.linalg.norm(error_rot)
 
+  def _slender(self, part):
+    inertia = self._env.physics.model.body_inertia[self._env.task.furniture.body_ids[part]]
+    return inertia.min() <= _SLENDER * inertia.max()
+
   def _without_spin(self, part, error_rot):
     """The rotation error less its part about a slender part's long axis: the grip barely
     turns a leg about its own axis, so integrating that error would only wind up."""
     physics = self._env.physics
     body = self._env.task.furniture.body_ids[part]
     inertia = physics.model.body_inertia[body]
-    if inertia.min() > _SLENDER * inertia.max():
+    if not self._slender(part):
       return error_rot
     axis = physics.data.ximat[body].reshape(3, 3)[:, int(np.argmin(inertia))]
     return error_rot - axis * (axis @ error_rot)
@@ -343,8 +348,8 @@ class CursorOracle:
     pos, rot = part_geometry.part_pose(physics, task.furniture, held)
     target_pos, target_rot = self._base_target(held)
     turned = np.linalg.norm(geometry.mat_to_axis_angle(target_rot @ rot.T))
-    sags = (mass[held] < _LIGHT_HOLD * mass[group].sum() and turned > _SAG
-            and np.linalg.norm(target_pos - pos) < 0.1)
+    weak = mass[held] < _LIGHT_HOLD * mass[group].sum() or self._slender(held)
+    sags = weak and turned > _SAG and np.linalg.norm(target_pos - pos) < 0.1
     self._sagging = self._sagging + 1 if sags else 0
     if self._sagging < _SAG_STEPS:
       return None
