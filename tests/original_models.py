@@ -539,3 +539,20 @@ def box_with_wide_mesh_front(directory, overlap, name="box_mesh_front"):
                       "  </asset>\n  <worldbody>", 1)
   path.write_text(text)
   return path
+
+
+def bracket_with_boards(directory, name="bracket_boards"):
+  """A 4 cm bracket, a few grams, holding a long heavy board (2 kg) and a short one by their
+  ends, as some of the original's desks hang their boards from a small connecting block.
+  The bracket has the most connectors, so the assembly is built onto it."""
+  arms = {"long": (1, "0.7071068 0 0.7071068 0", 0.25),
+          "short": (-1, "0.7071068 0 -0.7071068 0", 0.1)}
+  sites = [(f"bracket-{k},0,conn_site{i}", f"{0.02 * dx} 0 -0.01", q)
+           for i, (k, (dx, q, _)) in enumerate(arms.items())]
+  bodies = [_box_body("bracket", "0 0 0.02", "0.02 0.02 0.02", sites).replace(
+      'density="500"', 'density="100"')]
+  for i, (k, (dx, q, half)) in enumerate(arms.items()):
+    bodies.append(_box_body(f"board_{k}", f"{(0.02 + half) * dx} 0 0.01", f"{half} 0.15 0.01", [
+        (f"{k}-bracket,0,conn_site{i}", f"{-half * dx} 0 0", q)]).replace(
+            'density="500"', 'density="700"'))
+  return _write(directory, name, bodies)

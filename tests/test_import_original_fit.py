@@ -1,15 +1,19 @@
-"""Importing the original's models: fitting the parts together (trimmed collision data)
-and the assembly sequence of what comes out, on models the project writes."""
+"""Importing the original's models: fitting the parts together (trimmed collision data),
+the assembly sequence of what comes out and the Cursor oracle building it, on models the
+project writes."""
 
 import mujoco
 import numpy as np
 import pytest
 
+import ikea_suite
+from ikea_suite import cli as rollout
 from ikea_suite.assembly import sequence
 from ikea_suite.design import decompose
 from ikea_suite.design import validate
 from ikea_suite.design.original import cli
 from ikea_suite.design.original import convert
+from ikea_suite.experts import cursor_oracle
 from ikea_suite.props import model_format
 from ikea_suite.tasks import planner
 from tests import original_models
@@ -152,3 +156,18 @@ def test_convex_collision_meshes_that_overlap_are_cut_keeping_the_mass_and_the_l
   assert _masses(result.path)["front"] == pytest.approx(0.406 * 0.02 * 0.1 * 500)
   report = validate.check(result.path)
   assert report.ok, report.problems
+
+
+def test_an_assembly_hanging_from_a_light_bracket_is_held_by_its_heaviest_part(tmp_path):
+  # Held by the few-gram bracket the assembly is built onto, the 2 kg board turns it out
+  # of place for good; the oracle's base cursor moves its grip to the board.
+  result = convert.convert(original_models.bracket_with_boards(tmp_path), tmp_path / "out")
+  report = validate.check(result.path)
+  assert report.ok, report.problems
+  env = ikea_suite.load(str(result.path), "cursor", seed=0)
+  oracle = cursor_oracle.CursorOracle(env)
+  summary = rollout.run_episode(env, oracle)
+  spec = env.task.furniture.spec
+  assert spec.parts[env.task.root_part].name == "bracket"
+  assert summary["success"], summary
+  assert spec.parts[oracle._holding_part()].name == "board_long"
