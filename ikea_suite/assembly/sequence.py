@@ -16,8 +16,8 @@ leg leaves its seat along the leg), straight or as the first leg of a two-leg
 path; and, last, paths on which the part slides along faces it touches (a ring
 round a stool's legs, a leg held between a bench's top and its frame), with no
 air kept but never cutting in deeper than `PENETRATION` (more than a pair of
-parts already overlaps assembled). Furniture that the
-first kinds of path take apart gets the same plan as before they existed.
+parts already overlaps assembled). Furniture that the first kinds of path
+take apart never reaches these, so its plan does not depend on them.
 
 Plain MuJoCo on the furniture's document (the spec's, scaled as it is) does the
 collision tests; nothing here needs the task or an environment. A plan is kept
