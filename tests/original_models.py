@@ -452,3 +452,107 @@ def misnamed_chair(directory, name="chair_misnamed", short_back=0.0):
       <site name="side-front,0,conn_site{k + 2}" pos="0 0.19 0" quat="{q(turned)}" size="0.01"/>
     </body>""")
   return _write(directory, name, bodies)
+
+
+def _q(quat):
+  return " ".join(f"{v:.9f}" for v in quat)
+
+
+def post_in_socket(directory, name="post_socket"):
+  """A base block with a square socket and a post that fills it exactly, touching all
+  four walls (as a bench's leg sits between its top and its frame): the post can leave
+  only by sliding up along the walls it touches, with no air around it."""
+  walls = "".join(
+      f'\n      <geom name="noviz_collision_base_{k}" type="box" pos="{x} {y} 0.03" '
+      f'size="{sx} {sy} 0.03" density="500"/>'
+      for k, (x, y, sx, sy) in enumerate(((-0.035, 0, 0.015, 0.05), (0.035, 0, 0.015, 0.05),
+                                          (0, -0.035, 0.02, 0.015), (0, 0.035, 0.02, 0.015))))
+  bodies = [f"""
+    <body name="base" pos="0 0 0.02">
+      <geom name="noviz_collision_base_floor" type="box" size="0.1 0.1 0.02" density="500"/>{walls}
+      <site name="base-post,0,90,180,270,conn_site0" pos="0 0 0.02" size="0.01"/>
+    </body>""", _box_body("post", "0 0 0.14", "0.02 0.02 0.1", [
+        ("post-base,0,90,180,270,conn_site0", "0 0 -0.1", "1 0 0 0")])]
+  return _write(directory, name, bodies)
+
+
+def stool_with_sleeves(directory, name="stool_sleeves", tilt_deg=20.0):
+  """A stool whose four legs splay out `tilt_deg` degrees, each seated in a sleeve under the
+  seat with 2 mm of air round it: a leg leaves only along its own axis (the up axis of its
+  connector, neither a coordinate axis nor a diagonal between two)."""
+  t = np.radians(tilt_deg)
+  leg_half, width, air, wall, sleeve = 0.15, 0.015, 0.002, 0.005, 0.04
+  seat_z = 0.5
+  geoms, sites, legs = [], [], []
+  for k in range(4):
+    yaw = np.radians(90.0 * k)
+    turn = _quat_mul((np.cos(yaw / 2), 0, 0, np.sin(yaw / 2)), (np.cos(t / 2), np.sin(t / 2), 0, 0))
+    rot = _rotation(turn)
+    # The leg's top end, 1 mm under the seat's underside at its highest corner.
+    top = np.array([-0.12 * np.sin(yaw), 0.12 * np.cos(yaw), 0.0])
+    top[2] = seat_z - 0.01 - width * np.sin(t) - 0.001
+    axis = rot[:, 2]
+    centre = top - leg_half * axis
+    down = _quat_mul(turn, (0, 1, 0, 0))   # the connector's up points down the leg
+    sites.append((f"seat-leg,0,conn_site{k}", top - [0, 0, seat_z], down))
+    for j, (dx, dy, sx, sy) in enumerate(((-1, 0, wall, width + air + 2 * wall),
+                                          (1, 0, wall, width + air + 2 * wall),
+                                          (0, -1, width + air, wall), (0, 1, width + air, wall))):
+      off = (width + air + wall) * np.array([dx, dy, 0.0])
+      pos = top - [0, 0, seat_z] - sleeve * axis + rot @ off
+      geoms.append(f'\n      <geom name="noviz_collision_seat_{k}_{j}" type="box" '
+                   f'pos="{pos[0]:.9f} {pos[1]:.9f} {pos[2]:.9f}" quat="{_q(turn)}" '
+                   f'size="{sx} {sy} {sleeve}" density="500"/>')
+    legs.append(f"""
+    <body name="leg{k}" pos="{centre[0]:.9f} {centre[1]:.9f} {centre[2]:.9f}" quat="{_q(turn)}">
+      <geom name="noviz_collision_leg{k}_0" type="box" size="{width} {width} {leg_half}" density="500"/>
+      <site name="leg-seat,0,conn_site{k}" pos="0 0 {leg_half}" quat="0 1 0 0" size="0.01"/>
+    </body>""")
+  site_xml = "".join(f'\n      <site name="{n}" pos="{p[0]:.9f} {p[1]:.9f} {p[2]:.9f}" '
+                     f'quat="{_q(q)}" size="0.01"/>' for n, p, q in sites)
+  bodies = [f"""
+    <body name="seat" pos="0 0 {seat_z}">
+      <geom name="noviz_collision_seat_board" type="box" pos="0 0 -0.005" size="0.2 0.2 0.005" density="500"/>{"".join(geoms)}{site_xml}
+    </body>"""] + legs
+  return _write(directory, name, bodies)
+
+
+def _rotation(quat):
+  w, x, y, z = quat
+  return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                   [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                   [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def box_with_wide_mesh_front(directory, overlap, name="box_mesh_front"):
+  """box_with_wide_front whose front panel collides through its own (convex) mesh, seen
+  too, `overlap` metres too wide at each end: a mesh part overlapping two others."""
+  path = box_with_wide_front(directory, overlap, name)
+  folder = pathlib.Path(directory) / name
+  folder.mkdir(parents=True, exist_ok=True)
+  trimesh.creation.box(extents=(0.4 + 2 * overlap, 0.02, 0.1)).export(folder / "front.stl")
+  text = path.read_text().replace(
+      '<geom name="noviz_collision_front_0" type="box" size="{:.6g} 0.01 0.05" density="500"/>'
+      .format(0.2 + overlap),
+      '<geom name="front_mesh" type="mesh" mesh="front" density="500"/>')
+  text = text.replace("<worldbody>", f'<asset>\n    <mesh name="front" file="{name}/front.stl"/>\n'
+                      "  </asset>\n  <worldbody>", 1)
+  path.write_text(text)
+  return path
+
+
+def bracket_with_boards(directory, name="bracket_boards"):
+  """A 4 cm bracket, a few grams, holding a long heavy board (2 kg) and a short one by their
+  ends, as some of the original's desks hang their boards from a small connecting block.
+  The bracket has the most connectors, so the assembly is built onto it."""
+  arms = {"long": (1, "0.7071068 0 0.7071068 0", 0.25),
+          "short": (-1, "0.7071068 0 -0.7071068 0", 0.1)}
+  sites = [(f"bracket-{k},0,conn_site{i}", f"{0.02 * dx} 0 -0.01", q)
+           for i, (k, (dx, q, _)) in enumerate(arms.items())]
+  bodies = [_box_body("bracket", "0 0 0.02", "0.02 0.02 0.02", sites).replace(
+      'density="500"', 'density="100"')]
+  for i, (k, (dx, q, half)) in enumerate(arms.items()):
+    bodies.append(_box_body(f"board_{k}", f"{(0.02 + half) * dx} 0 0.01", f"{half} 0.15 0.01", [
+        (f"{k}-bracket,0,conn_site{i}", f"{-half * dx} 0 0", q)]).replace(
+            'density="500"', 'density="700"'))
+  return _write(directory, name, bodies)

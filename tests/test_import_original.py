@@ -1,5 +1,7 @@
 """The converter from the original IKEA environment's format, on models the tests write themselves."""
 
+import re
+
 import mujoco
 import numpy as np
 import pytest
@@ -232,9 +234,10 @@ _SITE = '<site name="{site}" pos="0 0 0.02"/>'
 @pytest.mark.parametrize("a_body, asset, why", [
     (_BOX.format(name="a") + '<body name="x"/>', "", "<body name='a'>: nested bodies"),
     ('<geom type="mesh" mesh="m"/>', '<mesh name="m" file="gone.stl"/>',
-     "<mesh name='m'>: no mesh file"),
+     "gone.stl' (an incomplete file)"),
     ('<geom type="box" size="0.1 0.1 0.02" contype="0" conaffinity="0"/>', "",
-     "<body name='a'>: part has no collision geometry"),
+     "<body name='a'>: part has no collision geometry (no colliding primitive or mesh; "
+     "an incomplete file)"),
     (_BOX.format(name="a") + '<geom type="plane" size="1 1 1"/>', "", "type 'plane' is not supported"),
     ('<geom type="box" size="0.1 0.1 0.02" xyaxes="1 0 0 0 1 0"/>', "", "written as xyaxes"),
     (_BOX.format(name="a") + '<geom type="box" size="0.1 0.1 0.02" quat="0 0 0 0"/>', "",
@@ -245,7 +248,7 @@ def test_unconvertible_parts_are_named_with_the_reason(tmp_path, a_body, asset, 
   b = _PART.format(name="b", body=_BOX.format(name="b") + _SITE.format(site="b-a,conn_site1"))
   path = tmp_path / "bad.xml"
   path.write_text(f"<mujoco><asset>{asset}</asset><worldbody>{a}{b}</worldbody></mujoco>")
-  with pytest.raises(errors.ConversionError, match=why.replace("(", r"\(")):
+  with pytest.raises(errors.ConversionError, match=re.escape(why)):
     convert.convert(path, tmp_path / "out")
 
 
@@ -350,9 +353,10 @@ def test_parts_without_connector_sites_are_named_as_such(tmp_path):
   path = original_models.disconnected(tmp_path, bare=True)
   with pytest.raises(errors.ConversionError) as info:
     convert.convert(path, tmp_path / "out")
+  # Reported alone: with a part that has no sites, the rest of the graph is not judged.
   assert str(info.value).endswith(
-      "parts ['c'] cannot be reached from root part 'a' through mating connectors "
-      "(parts with no connector sites: ['c'])")
+      "<worldbody>: parts ['c'] have no connector sites, so nothing can connect them "
+      "(an incomplete file)")
 
 
 def test_a_slide_that_opens_a_loop_moves_the_loop_site_to_meet_again(tmp_path):
@@ -463,3 +467,64 @@ def test_an_assembly_a_little_off_level_is_set_down_on_all_its_feet(tmp_path):
   assert poses["back"][0][2] > poses["front"][0][2] + 0.09   # still upright
   report = validate.check(result.path)
   assert report.ok, report.problems
+
+
+def test_subfolders_are_read_and_each_incomplete_file_reported_with_its_reason_alone(tmp_path, capsys):
+  src = tmp_path / "src"
+  original_models.table(src)
+  original_models.table(src / "variants", name="table_test")   # same name, another folder
+  original_models.disconnected(src / "incomplete", name="shelf_bare", bare=True)
+  original_models.table(src / "incomplete", name="table_no_mesh")
+  (src / "incomplete" / "table_no_mesh" / "top.stl").unlink()
+  out = tmp_path / "out"
+  assert cli.main([str(src), "--out", str(out), "--no-oracle"]) == 1
+  text = capsys.readouterr().out
+  rows = {line.split("|")[0].strip(): [c.strip() for c in line.split("|")[1:]]
+          for line in text.splitlines() if "|" in line}
+  assert list(rows)[1:] == ["table_test", "incomplete/shelf_bare", "incomplete/table_no_mesh",
+                            "variants/table_test"]
+  assert rows["table_test"][3] == rows["variants/table_test"][3] == "ok"
+  assert (out / "table_test.xml").is_file() and (out / "variants" / "table_test.xml").is_file()
+  reasons = {line.split(":")[0]: line.split("): ", 1)[1] for line in text.splitlines()
+             if "NOT CONVERTED" in line}
+  assert reasons == {
+      "incomplete/shelf_bare": "<worldbody>: parts ['c'] have no connector sites, so nothing "
+                               "can connect them (an incomplete file)",
+      "incomplete/table_no_mesh": "<mesh name='top'>: no mesh file "
+                                  f"'{src / 'incomplete' / 'table_no_mesh' / 'top.stl'}' "
+                                  "(an incomplete file)"}
+  assert "2/4 models converted, validated and assembled" in text
+
+
+def test_without_recursion_only_the_folders_own_files_are_read(tmp_path, capsys):
+  original_models.table(tmp_path / "src")
+  original_models.disconnected(tmp_path / "src" / "incomplete", bare=True)
+  assert cli.main([str(tmp_path / "src"), "--out", str(tmp_path / "out"), "--no-oracle",
+                   "--no-recursive"]) == 0
+  assert "1/1 models converted" in capsys.readouterr().out
+
+
+def test_several_seeds_are_summed_up_in_one_oracle_cell(tmp_path, monkeypatch, capsys):
+  outcomes = {0: "ok, 700 steps", 1: "ok, 650 steps", 2: "FAIL, 3/4 connections"}
+  monkeypatch.setattr(cli, "oracle_result", lambda path, seed: outcomes[seed])
+  assert cli.oracle_results(tmp_path / "m.xml", [0, 1]) == "ok, 2/2 seeds, 650-700 steps"
+  assert cli.oracle_results(tmp_path / "m.xml", [0, 1, 2]) == (
+      "FAIL on 1/3 seeds: seed 2 FAIL, 3/4 connections")
+  assert cli.oracle_results(tmp_path / "m.xml", [2]) == "FAIL, 3/4 connections"
+  original_models.table(tmp_path / "src")
+  assert cli.main([str(tmp_path / "src"), "--out", str(tmp_path / "out"), "--seed", "0", "1"]) == 0
+  row = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("table_test"))
+  assert row.split("|")[-1].strip() == "ok, 2/2 seeds, 650-700 steps"
+
+
+def test_a_file_cut_short_is_named_incomplete(tmp_path):
+  text = original_models.table(tmp_path).read_text()
+  path = tmp_path / "table_cut.xml"
+  path.write_text(text[:text.index("<body name=\"leg2\"") + 30])   # ends inside a tag
+  with pytest.raises(errors.ConversionError, match=r"not well-formed XML: .*\(it ends "
+                     r"mid-element: an incomplete file\)"):
+    convert.convert(path, tmp_path / "out")
+  path.write_text(text.replace("<worldbody>", "<worldbody><oops>", 1))   # broken, not short
+  with pytest.raises(errors.ConversionError) as info:
+    convert.convert(path, tmp_path / "out")
+  assert "incomplete" not in str(info.value)

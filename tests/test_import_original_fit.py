@@ -1,14 +1,19 @@
-"""Importing the original's models: fitting the parts together (trimmed collision data)
-and the assembly sequence of what comes out, on models the project writes."""
+"""Importing the original's models: fitting the parts together (trimmed collision data),
+the assembly sequence of what comes out and the Cursor oracle building it, on models the
+project writes."""
 
 import mujoco
 import numpy as np
 import pytest
 
+import ikea_suite
+from ikea_suite import cli as rollout
 from ikea_suite.assembly import sequence
 from ikea_suite.design import decompose
 from ikea_suite.design import validate
+from ikea_suite.design.original import cli
 from ikea_suite.design.original import convert
+from ikea_suite.experts import cursor_oracle
 from ikea_suite.props import model_format
 from ikea_suite.tasks import planner
 from tests import original_models
@@ -99,3 +104,70 @@ def test_an_overlap_made_by_pairing_connectors_against_the_files_geometry_is_not
       in result.notes
   report = validate.check(result.path)
   assert any(p.startswith("overlap: ") for p in report.problems), report.problems
+
+
+def _plan(path):
+  spec = model_format.load_spec(str(path))
+  steps = sequence.plan(spec, planner.root_part(spec), sequence.HOLD_LIFT)
+  return spec, {spec.parts[s.part].name: np.asarray(s.waypoints) for s in steps}
+
+
+def test_a_part_that_fits_with_no_air_leaves_by_sliding_along_the_faces_it_touches(tmp_path):
+  # The post touches all four walls of its socket: no path keeps air round it.
+  result = convert.convert(original_models.post_in_socket(tmp_path), tmp_path / "out")
+  assert validate.check(result.path).ok
+  _, paths = _plan(result.path)
+  entry = paths["post"][0]
+  assert entry[2] > 0.05 and np.allclose(entry[:2], 0.0)   # straight up out of the socket
+  assert cli.oracle_result(result.path, seed=0).startswith("ok, ")
+
+
+def test_splayed_legs_leave_their_sleeves_along_their_own_tilted_axes(tmp_path):
+  result = convert.convert(original_models.stool_with_sleeves(tmp_path), tmp_path / "out")
+  report = validate.check(result.path)
+  assert report.ok, report.problems
+  spec, paths = _plan(result.path)
+  assert sorted(paths) == ["leg0", "leg1", "leg2", "leg3"]
+  for name, waypoints in paths.items():
+    part = spec.parts[spec.part_index(name)]
+    axis = part.rot[:, 2]   # the leg's long axis, 20 degrees off vertical
+    assert np.degrees(np.arccos(abs(axis[2]))) == pytest.approx(20.0, abs=0.1)
+    assert len(waypoints) == 2   # one straight leg, along the leg, out and down
+    direction = waypoints[0] / np.linalg.norm(waypoints[0])
+    np.testing.assert_allclose(direction, -axis, atol=1e-6)
+  assert cli.oracle_result(result.path, seed=0).startswith("ok, ")
+
+
+def test_convex_collision_meshes_that_overlap_are_cut_keeping_the_mass_and_the_look(tmp_path):
+  result = convert.convert(original_models.box_with_wide_mesh_front(tmp_path, 0.003),
+                           tmp_path / "out")
+  cuts = [n for n in result.notes if " cut " in n]
+  assert cuts == [f"collision convex mesh 'front_geom{i}' of part 'front' cut 4.5 mm across "
+                  f"the overlap{kept} where the file's own collision shapes overlap part "
+                  f"'{wall}' by 3.0 mm in the assembled pose (1.5 mm of air left); the part "
+                  "keeps its mass" for i, kept, wall in ((0, " (its visible mesh unchanged)", "wall0"),
+                                                         (1, "", "wall1"))]
+  model = mujoco.MjModel.from_xml_path(str(result.path))
+  seen, colliding = model.geom("front_geom0"), model.geom("front_geom1")
+  assert not seen.contype and not seen.conaffinity and seen.group != colliding.group == 3
+  width = lambda g: 2 * model.geom_aabb[g.id, 3:].max()
+  assert width(seen) == pytest.approx(0.406, abs=1e-6)
+  assert width(colliding) == pytest.approx(0.406 - 2 * 0.0045, abs=1e-6)   # cut at both ends
+  assert _masses(result.path)["front"] == pytest.approx(0.406 * 0.02 * 0.1 * 500)
+  report = validate.check(result.path)
+  assert report.ok, report.problems
+
+
+def test_an_assembly_hanging_from_a_light_bracket_is_held_by_its_heaviest_part(tmp_path):
+  # Held by the few-gram bracket the assembly is built onto, the 2 kg board turns it out
+  # of place for good; the oracle's base cursor moves its grip to the board.
+  result = convert.convert(original_models.bracket_with_boards(tmp_path), tmp_path / "out")
+  report = validate.check(result.path)
+  assert report.ok, report.problems
+  env = ikea_suite.load(str(result.path), "cursor", seed=0)
+  oracle = cursor_oracle.CursorOracle(env)
+  summary = rollout.run_episode(env, oracle)
+  spec = env.task.furniture.spec
+  assert spec.parts[env.task.root_part].name == "bracket"
+  assert summary["success"], summary
+  assert spec.parts[oracle._holding_part()].name == "board_long"

@@ -9,6 +9,16 @@ out (a leg drops from under a table top, then moves out). Read backwards this
 is an assembly order in which every part goes in along a free path. The root
 part (the one the oracle holds) stays to the end.
 
+Only when no part can leave so are two further kinds of path tried, for parts
+that fit more closely: along the up axis of one of the part's connectors (the
+reverse of a mate's insertion direction, tilted where the mate is: a splayed
+leg leaves its seat along the leg), straight or as the first leg of a two-leg
+path; and, last, paths on which the part slides along faces it touches (a ring
+round a stool's legs, a leg held between a bench's top and its frame), with no
+air kept but never cutting in deeper than `PENETRATION` (more than a pair of
+parts already overlaps assembled). Furniture that the first kinds of path
+take apart never reaches these, so its plan does not depend on them.
+
 Plain MuJoCo on the furniture's document (the spec's, scaled as it is) does the
 collision tests; nothing here needs the task or an environment. A plan is kept
 with the spec it was made for, so every user of one spec plans it once.
@@ -40,6 +50,7 @@ _AXES = np.concatenate([np.eye(3), -np.eye(3)])
 _DIAGONALS = np.array([v / np.sqrt(2) for i in range(3) for j in range(i + 1, 3)
                        for v in (_AXES[i] + _AXES[j], _AXES[i] - _AXES[j],
                                  -_AXES[i] + _AXES[j], -_AXES[i] - _AXES[j])])
+_SAME_DIRECTION = np.cos(np.radians(5.0))   # directions closer than this are one
 _PARKED = 100.0        # parts taken away are parked this far along x
 # The Cursor oracle holds the growing assembly this high (m): parts still lying
 # on the floor pass beneath it. The task's next_pair follows the plan for it.
@@ -71,6 +82,19 @@ class _Scene:
     self.qadr = [self.model.jnt_qposadr[self.model.body_jntadr[b]] for b in self.body]
     self.home = [self.data.qpos[a:a + 3].copy() for a in self.qadr]
     self.bounds = [self._world_box(i, spec.parts[i]) for i in range(len(spec.parts))]
+    self.mate_axes = [_mate_axes(spec, i) for i in range(len(spec.parts))]
+    self.seated = self._seated_overlaps()
+
+  def _seated_overlaps(self):
+    """{(body, body): metres} how deep each pair of parts already overlaps assembled (a
+    model may keep overlaps under validation's tolerance, deeper than PENETRATION)."""
+    self.place(set(range(len(self.body))))
+    mujoco.mj_fwdPosition(self.model, self.data)
+    out = {}
+    for c in self.data.contact[:self.data.ncon]:
+      pair = tuple(sorted((int(self.model.geom_bodyid[c.geom1]), int(self.model.geom_bodyid[c.geom2]))))
+      out[pair] = max(out.get(pair, 0.0), -float(c.dist))
+    return out
 
   def _world_box(self, i, part):
     return part.assembled_corners() + self.lift
@@ -89,8 +113,10 @@ class _Scene:
     body = self.body[part]
     limit = self.air if np.linalg.norm(offset) > NEAR else -PENETRATION
     for c in self.data.contact[:self.data.ncon]:
-      if c.dist < limit and body in (self.model.geom_bodyid[c.geom1],
-                                            self.model.geom_bodyid[c.geom2]):
+      ends = (self.model.geom_bodyid[c.geom1], self.model.geom_bodyid[c.geom2])
+      # Sliding along what it touches, a part may stay as deep in a neighbour as it sits.
+      below = self.seated.get(tuple(sorted(map(int, ends))), 0.0) if self.air < 0 else 0.0
+      if c.dist < limit - below and body in ends:
         self.data.qpos[adr:adr + 3] = self.home[part] + self.lift
         return True
     self.data.qpos[adr:adr + 3] = self.home[part] + self.lift
@@ -107,13 +133,32 @@ class _Scene:
     return max((rest @ direction).max() - (own @ direction).min(), 0.0) + MARGIN
 
 
-def _exit_path(scene, part, present):
+def _mate_axes(spec, part):
+  """Unit directions, both ways along the up axis of each of the part's connectors (in the
+  assembled frame), that are neither an axis nor a diagonal the paths already try."""
+  body = spec.parts[part]
+  tried = np.concatenate([_AXES, _DIAGONALS])
+  out = []
+  for c in spec.connectors:
+    if c.part != body.name:
+      continue
+    up = body.rot @ np.asarray(c.rot)[:, 2]
+    for d in (up, -up):
+      d = d / np.linalg.norm(d)
+      if (tried @ d).max() < _SAME_DIRECTION and all(o @ d < _SAME_DIRECTION for o in out):
+        out.append(d)
+  return np.array(out).reshape(-1, 3)
+
+
+def _exit_path(scene, part, present, tilted=np.zeros((0, 3))):
   """Waypoints (offsets, farthest first) along which `part` leaves the present parts, or None.
 
   The farthest waypoint is clear of the rest's bounding box across some plane
-  (normal to an axis, or to the diagonal between two), so the part can reach it
-  from anywhere on that plane's far side. Shorter paths win; straight paths
-  along an axis beat two-leg ones, which beat straight diagonal ones.
+  (normal to an axis, to the diagonal between two, or to a `tilted` direction),
+  so the part can reach it from anywhere on that plane's far side. Shorter paths
+  win; straight paths along an axis beat two-leg ones, which beat straight
+  diagonal ones, which beat paths along `tilted` directions (straight, then
+  a short way along one and sideways out).
   """
   straight = []
   for d in _AXES:
@@ -139,6 +184,22 @@ def _exit_path(scene, part, present):
   for length, k in diagonal:
     if scene.path_free(part, np.zeros(3), _DIAGONALS[k], length):
       return (length * _DIAGONALS[k], np.zeros(3))
+  for length, d in sorted(((scene.clearance(part, present, d), d) for d in tilted),
+                          key=lambda item: item[0]):
+    if scene.path_free(part, np.zeros(3), d, length):
+      return (length * d, np.zeros(3))
+  bent = []
+  for d in tilted:
+    for short in SHORT_MOVE:
+      if not scene.path_free(part, np.zeros(3), d, short):
+        break
+      for side in _AXES:
+        if side[2] > -0.5:
+          bent.append((short + scene.clearance(part, present, side, short * d), short * d, side))
+  for _, first, side in sorted(bent, key=lambda item: item[0]):
+    length = scene.clearance(part, present, side, first)
+    if scene.path_free(part, first, side, length):
+      return (first + length * side, first, np.zeros(3))
   return None
 
 
@@ -175,7 +236,9 @@ def _plan(spec, root, lift):
       present.remove(step.part)
     else:
       names = [spec.parts[p].name for p in sorted(present - {root})]
-      raise errors.SequenceError(f"{spec.name}: no part of {names} can leave along a free straight path")
+      raise errors.SequenceError(
+          f"{spec.name}: no part of {names} can leave along a free path (straight or two-leg, "
+          "along an axis, a diagonal or a connector's up axis, sliding along faces it touches)")
   return tuple(reversed(removed))
 
 
@@ -189,6 +252,14 @@ def _next_removal(scene, present, root, edges):
     scene.air = air
     for part in order:
       waypoints = _exit_path(scene, part, present)
+      if waypoints is not None:
+        scene.air = CLEARANCE
+        return Step(part, tuple(tuple(float(v) for v in w) for w in waypoints))
+  # Closer fits: along the part's own mates' axes, then sliding along what it touches.
+  for air in (CLEARANCE, -PENETRATION):
+    scene.air = air
+    for part in order:
+      waypoints = _exit_path(scene, part, present, scene.mate_axes[part])
       if waypoints is not None:
         scene.air = CLEARANCE
         return Step(part, tuple(tuple(float(v) for v in w) for w in waypoints))

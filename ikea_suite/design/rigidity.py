@@ -10,10 +10,14 @@ welds from settling of the whole on the floor.
 
 import dataclasses
 
+import mujoco
 import numpy as np
 
 import ikea_suite
 from ikea_suite import geometry
+from ikea_suite.props import model_format
+
+_GAP = 1e-4   # metres: the assembly starts this far above the floor
 
 
 @dataclasses.dataclass(frozen=True)
@@ -33,10 +37,18 @@ def assemble(name, lift=0.0, **options):
   task, physics = env.task, env.physics
   spec = task.furniture.spec
   bottom = min(p.assembled_corners()[:, 2].min() for p in spec.parts)
-  for k, part_spec in enumerate(spec.parts):
-    task.furniture.set_part_pose(physics, k, part_spec.pos + [0.0, 0.0, lift - bottom + 1e-4],
-                                 geometry.mat_to_quat(part_spec.rot))
-  physics.forward()
+  def place(height):
+    for k, part_spec in enumerate(spec.parts):
+      task.furniture.set_part_pose(physics, k, part_spec.pos + [0.0, 0.0, height],
+                                   geometry.mat_to_quat(part_spec.rot))
+    physics.forward()
+  place(lift - bottom + _GAP)
+  # The collision bounds' corners can lie below the lowest point of a collision mesh
+  # (MuJoCo frames a mesh geom on its principal axes, and the bounds are that frame's
+  # box): set such an assembly down onto what it stands on instead of dropping it.
+  air = _floor_gap(physics, task.furniture) if not lift else _GAP
+  if air > 2 * _GAP:
+    place(lift - bottom + _GAP - (air - _GAP))
   table = task.furniture.connectors
   for pair in task.design_pairs:
     con_a, con_b = table.pair_a[pair], table.pair_b[pair]
@@ -46,6 +58,15 @@ def assemble(name, lift=0.0, **options):
       continue
     task.connect_in_place(physics, pair)
   return env
+
+
+def _floor_gap(physics, furniture):
+  """Metres between the floor and the nearest collision geom of the furniture (up to 5 cm)."""
+  model, data = physics.model.ptr, physics.data.ptr
+  floors = np.flatnonzero((model.geom_type == mujoco.mjtGeom.mjGEOM_PLANE) & (model.geom_bodyid == 0))
+  geoms, _ = model_format.collision_geoms(model, furniture.body_ids)
+  return min(mujoco.mj_geomDistance(model, data, int(f), int(g), 0.05, None)
+             for f in floors for g in geoms)
 
 
 def _relative(pos, rot, root):

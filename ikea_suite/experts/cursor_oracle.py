@@ -31,6 +31,15 @@ _GRAB_RANGE = 0.02     # metres from the grasp point at which a cursor selects
 LIFT = sequence.HOLD_LIFT   # the assembly is held this high: parts on the floor pass beneath
 _FLOOR_CLEARANCE = 0.25   # metres above the floor parts are carried (lying parts are lower)
 _STUCK_STEPS = 80      # steps without progress at one target before backing off
+# Hung from a light bracket, a heavy assembly swings or sags in the grip's soft weld; hung
+# from a slender post, it turns about the post's axis, which the grip barely turns. Either
+# way it never settles in place. When the part the base cursor holds weighs less than
+# _LIGHT_HOLD of its assembly or is slender, and the assembly, in place, stays turned more
+# than _SAG from its pose for _SAG_STEPS steps while the other cursor is free, the base
+# cursor moves its grip to the assembly's heaviest part.
+_LIGHT_HOLD = 0.25
+_SAG = 0.15          # radians
+_SAG_STEPS = 5
 
 
 class Phase(enum.Enum):
@@ -58,6 +67,9 @@ class CursorOracle:
     # robot updates cursor 0 first: in a hand-back (see `_hand_back`) cursor 0 lets go
     # and cursor 1 grabs within the same step, so the assembly never drops.
     self._base = 1
+    self._grip_part = None   # the part the base cursor holds the assembly by; None: the root
+    self._regripping = False
+    self._sagging = 0        # steps the held assembly has sagged with the other cursor free
     self._plan = None
     self._pivot = None
     self._preferred = None   # name of the connector the part should be welded by
@@ -114,13 +126,17 @@ class CursorOracle:
     action[base + 3:base + 6] = turn_cmd
     return np.linalg.norm(error_pos), np.linalg.norm(error_rot)
 
+  def _slender(self, part):
+    inertia = self._env.physics.model.body_inertia[self._env.task.furniture.body_ids[part]]
+    return inertia.min() <= _SLENDER * inertia.max()
+
   def _without_spin(self, part, error_rot):
     """The rotation error less its part about a slender part's long axis: the grip barely
     turns a leg about its own axis, so integrating that error would only wind up."""
     physics = self._env.physics
     body = self._env.task.furniture.body_ids[part]
     inertia = physics.model.body_inertia[body]
-    if inertia.min() > _SLENDER * inertia.max():
+    if not self._slender(part):
       return error_rot
     axis = physics.data.ximat[body].reshape(3, 3)[:, int(np.argmin(inertia))]
     return error_rot - axis * (axis @ error_rot)
@@ -161,7 +177,7 @@ class CursorOracle:
     root = task.root_part
     held = task.robot.held_parts[b]
     if held < 0 or not task.state.same_group(held, root):
-      self._fetch(action, b, root)
+      self._fetch(action, b, self._holding_part())
       self._base_phase = Phase.REACH
       return False
     action[b * _PER_CURSOR + 6] = 1.0
@@ -319,14 +335,60 @@ class CursorOracle:
     self._watch(distance)
     return False
 
+  def _holding_part(self):
+    """The part the base cursor holds the assembly by: the root until a regrip."""
+    return self._env.task.root_part if self._grip_part is None else self._grip_part
+
+  def _sags(self, held):
+    """Whether the assembly hangs sagging from the light part `held` (see _LIGHT_HOLD);
+    then the part it should be held by instead, else None."""
+    task, physics = self._env.task, self._env.physics
+    mass = physics.model.body_mass[task.furniture.body_ids]
+    group = [p for p in range(len(mass)) if task.state.same_group(p, held)]
+    pos, rot = part_geometry.part_pose(physics, task.furniture, held)
+    target_pos, target_rot = self._base_target(held)
+    turned = np.linalg.norm(geometry.mat_to_axis_angle(target_rot @ rot.T))
+    weak = mass[held] < _LIGHT_HOLD * mass[group].sum() or self._slender(held)
+    sags = weak and turned > _SAG and np.linalg.norm(target_pos - pos) < 0.1
+    self._sagging = self._sagging + 1 if sags else 0
+    if self._sagging < _SAG_STEPS:
+      return None
+    return max(group, key=lambda p: mass[p])
+
+  def _regrip(self, action):
+    """Moves the base cursor's grip onto a heavier part when the assembly sags from the one
+    it holds: the free cursor takes the assembly by that part (the base lets go a step
+    before, as a cursor cannot take an assembly the other holds), and the hand-back
+    returns it to the base cursor by the same part. True while this is under way."""
+    task = self._env.task
+    held, b, m = task.robot.held_parts, self._base, 1 - self._base
+    if self._regripping and (held[m] >= 0 or held[b] == self._grip_part):
+      self._regripping = False   # the free cursor has it (the hand-back follows), or done
+    if not self._regripping:
+      if held[b] < 0 or held[m] >= 0 or not task.state.same_group(held[b], task.root_part):
+        self._sagging = 0
+        return False
+      heavier = self._sags(held[b])
+      if heavier is None or heavier == held[b]:
+        return False
+      self._grip_part, self._regripping, self._sagging = heavier, True, 0
+    point = part_geometry.grasp_point(self._env.physics, task.furniture, self._grip_part)
+    self._move_to(action, m, point)
+    if held[b] >= 0:   # let go once the free cursor is at the grip; it takes hold next step
+      there = np.linalg.norm(point - self._cursor(m)[0]) < _GRAB_RANGE
+      action[b * _PER_CURSOR + 6] = -1.0 if there else 1.0
+    action[m * _PER_CURSOR + 6] = 1.0 if held[b] < 0 else -1.0
+    self._base_phase = Phase.REACH
+    return True
+
   def _hand_back(self, action):
     """After the first connection the task may move the root (the groups are equal) and
     make the base cursor let go; the assembly then hangs from the small part the other
     cursor holds. That cursor keeps still while the base cursor flies back to the root's
     grasp point, then lets go while the base cursor grabs the root again."""
     b, m = self._base, 1 - self._base
-    root = self._env.task.root_part
-    point = part_geometry.grasp_point(self._env.physics, self._env.task.furniture, root)
+    point = part_geometry.grasp_point(self._env.physics, self._env.task.furniture,
+                                      self._holding_part())
     self._move_to(action, b, point)
     there = np.linalg.norm(point - self._cursor(b)[0]) < _GRAB_RANGE
     action[m * _PER_CURSOR + 6] = -1.0 if there else 1.0
@@ -338,6 +400,8 @@ class CursorOracle:
     task = self._env.task
     held = task.robot.held_parts
     b = self._base
+    if self._regrip(action):
+      return action
     if (held[b] < 0 and held[1 - b] >= 0
         and task.state.same_group(held[1 - b], task.root_part)):
       self._hand_back(action)

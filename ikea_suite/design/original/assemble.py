@@ -91,7 +91,7 @@ def _connectors(model):
                              parsed.twists_deg, site.pos, site.rot @ Y_FORWARD_TO_X))
   if not out:
     raise errors.ConversionError(model.path, "<worldbody>",
-                                 "no connector sites (names with 'conn_site')")
+                                 "no connector sites (names with 'conn_site'; an incomplete file)")
   return out
 
 
@@ -320,11 +320,18 @@ def solve(model: reader.OriginalModel) -> Assembly:
     one weld per mated pair); duplicate and dead ones are reported in `notes`.
 
   Raises:
-    ConversionError: bad connector names, no connectors, or parts unreachable
-      from the root through mating connectors (names them and the unpartnered sites).
+    ConversionError: bad connector names, no connectors, parts without connector
+      sites (an incomplete file), or parts unreachable from the root through mating
+      connectors (names them and the unpartnered sites).
   """
   notes = []
   connectors = _connectors(model)
+  with_sites = {c.body for c in connectors}
+  bare = [b.name for b in model.bodies if b.name not in with_sites]
+  if bare:   # the file is incomplete: nothing else about its graph can be judged
+    raise errors.ConversionError(
+        model.path, "<worldbody>", f"parts {bare} have no connector sites, so nothing "
+        "can connect them (an incomplete file)")
   file_poses = {b.name: (b.pos, b.rot) for b in model.bodies}
   _relabel_by_layout(connectors, file_poses, model.path, notes)
   _unify_twists(connectors, notes)
@@ -335,14 +342,7 @@ def solve(model: reader.OriginalModel) -> Assembly:
   poses, tree = _chain(root, pairs, connectors, file_poses)
   unreachable = [name for name in order if name not in poses]
   if unreachable:
-    with_sites = {c.body for c in connectors}
-    bare = [n for n in unreachable if n not in with_sites]
-    reasons = list(unmatched)
-    if not unmatched and len(bare) < len(unreachable):
-      reasons.append("their connectors only mate among themselves")
-    if bare:
-      reasons.append(f"parts with no connector sites: {bare}")
-    detail = "; ".join(reasons)
+    detail = "; ".join(unmatched or ["their connectors only mate among themselves"])
     raise errors.ConversionError(
         model.path, "<worldbody>", f"parts {unreachable} cannot be reached from root part "
         f"{root!r} through mating connectors ({detail})")

@@ -3,10 +3,12 @@
     ikea-suite-import-original ~/furniture/models/furniture --out ~/my_models
     ikea-suite-import-original chair_agne.xml table_lack.xml --out ~/my_models --material particleboard
 
-Each SRC is an original-format XML file or a folder of them. Every model is
+Each SRC is an original-format XML file or a folder of them (with its subfolders,
+unless --no-recursive; a file from a subfolder is written to the same subfolder
+of --out and named by its path in the table). Every model is
 converted (see ikea_suite.design.original.convert), checked by our
-validation (ikea_suite.design.validate) and assembled once by the Cursor
-oracle; a table per model follows, then the repairs made and, for every
+validation (ikea_suite.design.validate) and assembled by the Cursor oracle,
+once per --seed; a table per model follows, then the repairs made and, for every
 model that could not be converted, the reason. Exit status 0 when every
 model converted, validated and was assembled, else 1; 2 for bad arguments.
 Use the result with `ikea_suite.register_models(DIR)` or
@@ -53,14 +55,22 @@ class Row:
     return (self.model, self.parts, self.connectors, self.pairs, self.validation, self.oracle)
 
 
-def sources(paths: list[str]) -> list[pathlib.Path]:
-  """The XML files named by `paths` (a folder stands for its *.xml files), in order.
+def sources(paths: list[str], recursive: bool = True) -> list[tuple[pathlib.Path, pathlib.Path]]:
+  """The XML files named by `paths`, in order, each with the subfolder its output goes to.
+
+  A folder stands for its *.xml files and, when `recursive`, those of every folder
+  below it (the original's own `incomplete/` folder, a model's variant kept in its
+  mesh folder). A file found in a subfolder is written to the same subfolder of
+  the output, so files of the same name in different folders do not overwrite
+  each other.
 
   Args:
     paths: files and folders as given on the command line.
+    recursive: False reads only the *.xml files directly in each folder.
 
   Returns:
-    The XML files, each folder's sorted by name.
+    (XML file, output subfolder relative to --out) pairs; each folder's files sorted by
+    their path, a folder's own files before its subfolders'.
 
   Raises:
     ConversionError: a path that is neither an XML file nor a folder holding one.
@@ -68,12 +78,14 @@ def sources(paths: list[str]) -> list[pathlib.Path]:
   files = []
   for path in map(pathlib.Path, paths):
     if path.is_dir():
-      found = sorted(path.glob("*.xml"))
+      found = path.rglob("*.xml") if recursive else path.glob("*.xml")
+      found = sorted((f for f in found if f.is_file()),
+                     key=lambda f: (len(f.relative_to(path).parts), f.relative_to(path).parts))
       if not found:
         raise errors.ConversionError(path, "<folder>", "holds no *.xml model files")
-      files += found
+      files += [(f, f.parent.relative_to(path)) for f in found]
     elif path.is_file():
-      files.append(path)
+      files.append((path, pathlib.Path()))
     else:
       raise errors.ConversionError(path, "<file>", "no such file or folder")
   return files
@@ -99,33 +111,60 @@ def oracle_result(path: pathlib.Path, seed: int) -> str:
   return f"FAIL, {summary['connections']}/{summary['needed']} connections"
 
 
-def process(source: pathlib.Path, out: str, material: str | None, category: str, seed: int,
-            run_oracle: bool = True) -> Row:
+def oracle_results(path: pathlib.Path, seeds: list[int]) -> str:
+  """Cursor oracle episodes on a model file, one per seed, summed up in one cell.
+
+  Args:
+    path: the converted model file.
+    seeds: the episodes' seeds.
+
+  Returns:
+    oracle_result's text for one seed; for several, 'ok, K/K seeds, A-B steps' when every
+    episode assembles it, else 'FAIL on J/K seeds' and each failing seed's result.
+  """
+  results = {seed: oracle_result(path, seed) for seed in seeds}
+  if len(seeds) == 1:
+    return results[seeds[0]]
+  failed = {seed: r for seed, r in results.items() if not r.startswith("ok")}
+  if not failed:
+    steps = [int(r.split()[1]) for r in results.values()]
+    return f"ok, {len(seeds)}/{len(seeds)} seeds, {min(steps)}-{max(steps)} steps"
+  return (f"FAIL on {len(failed)}/{len(seeds)} seeds: "
+          + "; ".join(f"seed {seed} {r}" for seed, r in failed.items()))
+
+
+def process(source: pathlib.Path, out: str, material: str | None, category: str,
+            seed: int | list[int], run_oracle: bool = True,
+            subfolder: pathlib.Path = pathlib.Path()) -> Row:
   """Converts, validates and (optionally) assembles one model.
 
   Args:
     source: the original-format XML file.
     out: the output folder.
     material, category: as for convert.convert.
-    seed: the oracle episode's seed.
+    seed: the oracle episode's seed, or a list of seeds (one episode each).
     run_oracle: False to skip the oracle.
+    subfolder: where under `out` the model is written (and how its row names it).
 
   Returns:
     The model's Row: counts, validation and oracle results, repairs, or why it failed.
   """
   row = Row(str(source))
+  label = (subfolder / source.stem).as_posix()
   try:
-    result = convert.convert(source, out, material=material, category=category)
+    result = convert.convert(source, pathlib.Path(out) / subfolder, material=material,
+                             category=category)
   except errors.ConversionError as e:
-    row.model, row.error = source.stem, f"{e.element}: {e.problem}"
+    row.model, row.error = label, f"{e.element}: {e.problem}"
     row.validation = row.oracle = "not converted"
     return row
-  row.model, row.parts = result.name, str(result.num_parts)
+  row.model, row.parts = (subfolder / result.name).as_posix(), str(result.num_parts)
   row.connectors, row.pairs = str(result.num_connectors), str(len(result.pairs))
   row.notes = result.notes
   report = validate.check(result.path)
   row.validation = "ok" if report.ok else "FAIL: " + "; ".join(report.problems)
-  row.oracle = oracle_result(result.path, seed) if run_oracle else SKIPPED
+  seeds = [seed] if isinstance(seed, int) else list(seed)
+  row.oracle = oracle_results(result.path, seeds) if run_oracle else SKIPPED
   return row
 
 
@@ -160,19 +199,24 @@ def main(argv: list[str] | None = None) -> int:
                       help="give every part this material's density (default: the original masses)")
   parser.add_argument("--category", default=convert.DEFAULT_CATEGORY,
                       help="catalog category written in each model's metadata")
-  parser.add_argument("--seed", type=int, default=0, help="seed of the oracle's episode")
+  parser.add_argument("--seed", type=int, nargs="+", default=[0],
+                      help="seeds of the oracle's episodes, one episode each (default: 0)")
   parser.add_argument("--no-oracle", action="store_true", help="skip the Cursor oracle check")
+  parser.add_argument("--recursive", action=argparse.BooleanOptionalAction, default=True,
+                      help="read the *.xml files of a folder's subfolders too, writing each "
+                           "to the same subfolder of --out (default; --no-recursive: only "
+                           "the folder's own files)")
   args = parser.parse_args(argv)
   try:
-    files = sources(args.src)
+    files = sources(args.src, args.recursive)
   except ikea_suite.IkeaSuiteError as e:
     print(f"error: {e}", file=sys.stderr)
     return 2
   pathlib.Path(args.out).mkdir(parents=True, exist_ok=True)
   rows = []
-  for source in tqdm.tqdm(files, desc="converting", unit="model", file=sys.stderr):
+  for source, subfolder in tqdm.tqdm(files, desc="converting", unit="model", file=sys.stderr):
     rows.append(process(source, args.out, args.material, args.category, args.seed,
-                        run_oracle=not args.no_oracle))
+                        run_oracle=not args.no_oracle, subfolder=subfolder))
   print(table(rows))
   if details(rows):
     print()

@@ -153,7 +153,7 @@ class _Converter:
                                    f"uses mesh {name!r}, which no <mesh> declares")
     if not asset.file.is_file():
       raise errors.ConversionError(self.model.path, f"<mesh name={name!r}>",
-                                   f"no mesh file {str(asset.file)!r}")
+                                   f"no mesh file {str(asset.file)!r} (an incomplete file)")
     try:
       mesh = trimesh.load(str(asset.file), force="mesh")
     except Exception as e:   # trimesh raises many kinds on a corrupt file
@@ -235,7 +235,7 @@ class _Converter:
     if not any(base is not None for _, base, _ in out):
       raise errors.ConversionError(
           self.model.path, f"<body name={body.name!r}>",
-          "part has no collision geometry (no colliding primitive or mesh)")
+          "part has no collision geometry (no colliding primitive or mesh; an incomplete file)")
     return out
 
   def set_densities(self, part_name, body, geoms):

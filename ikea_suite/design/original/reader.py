@@ -143,7 +143,10 @@ class _Reader:
     try:
       root = ET.parse(self.path).getroot()
     except ET.ParseError as e:
-      raise self.error("<file>", f"not well-formed XML: {e}") from None
+      lines = self.path.read_text(errors="replace").splitlines()
+      # An error on the last line (an element left open at the end) is a file cut short.
+      cut = " (it ends mid-element: an incomplete file)" if e.position[0] >= len(lines) else ""
+      raise self.error("<file>", f"not well-formed XML: {e}{cut}") from None
     except OSError as e:
       raise self.error("<file>", f"cannot be read: {e.strerror}") from None
     if root.tag != "mujoco":

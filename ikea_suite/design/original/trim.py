@@ -10,10 +10,13 @@ overlap deeper than PENETRATION_TOL is cleared by shortening one of the two
 primitives along the contact normal, at the face that overlaps, by the overlap
 depth and _AIR more:
 
-- only collision boxes (along any of their axes) and cylinders (along their
-  axis) are trimmed, and only when the contact normal lies within
-  acos(_ALIGN) of that axis; of two candidates the one longer along the normal
-  is trimmed (the smaller relative change);
+- collision boxes (along any of their axes) and cylinders (along their axis)
+  are trimmed only when the contact normal lies within acos(_ALIGN) of that
+  axis; a convex collision mesh (a part that collides through its own mesh or
+  its coacd pieces) is cut flat across the contact normal, so it stays convex
+  (a mesh that is also the part's visible shape keeps it to show, and a trimmed
+  copy collides); of two candidates the one longer along the normal is trimmed
+  (the smaller relative change);
 - the _AIR left between the trimmed face and its neighbour lets a part slide
   past the other along that face as it goes in (the sequencer keeps
   sequence.CLEARANCE of air around a sliding part; trimmed to bare contact, a
@@ -34,14 +37,18 @@ Overlaps that cannot be trimmed are left, with a note naming the parts and why,
 and validation then reports them.
 """
 
+import dataclasses
+
 import mujoco
 import numpy as np
+import trimesh
 
 from ikea_suite import geometry
 from ikea_suite import physics_settings
 from ikea_suite.assembly import sequence
 from ikea_suite.design import construction
 from ikea_suite.design import mjcf_writer
+from ikea_suite.design import part_geoms
 from ikea_suite.design import validate
 from ikea_suite.design.original import seat
 
@@ -125,6 +132,50 @@ def _axis(part, geom, toward):
   return k, abs(float(local[k])), float(np.sign(local[k]))
 
 
+def _mesh_face(furniture, part, geom, toward):
+  """(local unit normal, extent): the direction, in the mesh's frame, in which a convex
+  collision mesh's overlapping face points (the world direction `toward`), and the
+  mesh's extent along it; None when the geom is not a colliding mesh."""
+  if geom.type != "mesh" or not geom.collide:
+    return None
+  local = (part.rot @ geom.rot).T @ toward
+  local = local / np.linalg.norm(local)
+  heights = furniture.meshes[geom.mesh].vertices @ local
+  return local, float(heights.max() - heights.min())
+
+
+def _cut_mesh(furniture, part, geom, normal, amount, trimmed):
+  """Cuts `amount` off a convex collision mesh across its local `normal`, keeping its mass.
+  A mesh that is also seen stays as it is, to be seen only; the cut copy collides.
+  Returns the geom that now collides."""
+  mesh = furniture.meshes[geom.mesh]
+  height = mesh.vertices @ normal
+  below = height - (height.max() - amount)   # <= 0: kept
+  first, second = below[mesh.edges_unique[:, 0]], below[mesh.edges_unique[:, 1]]
+  crossing = (first < 0) != (second < 0)
+  ends = mesh.vertices[mesh.edges_unique[crossing]]
+  t = (first[crossing] / (first[crossing] - second[crossing]))[:, None]
+  # The piece is convex: the hull of what stays and of where its edges cross the plane
+  # is the piece cut flat.
+  cut = trimesh.convex.convex_hull(np.concatenate([mesh.vertices[below <= 0],
+                                                  ends[:, 0] + t * (ends[:, 1] - ends[:, 0])]))
+  if geom.visible:
+    colliding = dataclasses.replace(geom, visible=False)
+    geom.collide, geom.construction = False, None
+    part.geoms.append(colliding)
+    trimmed[id(colliding)] = trimmed.pop(id(geom), {})
+    geom = colliding
+  geom.mesh = part_geoms.register_mesh(furniture, cut, geom.mesh.rsplit("_", 1)[0] + "_trim")
+  if geom.construction is not None:
+    geom.construction = construction.solid(
+        geom.construction.density * abs(mesh.volume) / abs(cut.volume),
+        f"{geom.construction.name}, denser by the volume its collision trim removed")
+  faces = trimmed.setdefault(id(geom), {})
+  key = tuple(np.round(normal, 1))
+  faces[key] = faces.get(key, 0.0) + amount
+  return geom
+
+
 def _size_index(geom, k):
   return 1 if geom.type == "cylinder" else k   # a cylinder's half-length is its size[1]
 
@@ -173,6 +224,14 @@ def trim(furniture, file_poses=None):
       options = []
       for name, index, toward in ((part_a, i, normal), (part_b, j, -normal)):
         part, geom = parts[name], parts[name].geoms[index]
+        face = _mesh_face(furniture, part, geom, toward)
+        if face is not None:
+          local, extent = face
+          amount = depth + _AIR
+          done = trimmed.get(id(geom), {}).get(tuple(np.round(local, 1)), 0.0)
+          if done + amount <= MAX_TRIM and amount <= extent / 2:
+            options.append((extent, name, index, local, None, amount))
+          continue
         found = _axis(part, geom, toward)
         if found is None or found[1] < _ALIGN:
           continue
@@ -188,11 +247,19 @@ def trim(furniture, file_poses=None):
         continue
       extent, name, index, k, sign, amount = max(options, key=lambda o: o[0])
       other = part_b if name == part_a else part_a
-      _cut(parts[name], parts[name].geoms[index], k, sign, amount, trimmed)
-      notes.append(f"collision {parts[name].geoms[index].type} '{name}{_GEOM}{index}' of part "
-                   f"{name!r} trimmed {amount * 1000:.1f} mm where the file's own collision "
-                   f"shapes overlap part {other!r} by {depth * 1000:.1f} mm in the assembled "
-                   f"pose ({_AIR * 1000:.1f} mm of air left); the part keeps its mass")
+      geom = parts[name].geoms[index]
+      kind = "convex mesh" if geom.type == "mesh" else geom.type
+      if geom.type == "mesh":
+        kept = " (its visible mesh unchanged)" if geom.visible else ""
+        _cut_mesh(furniture, parts[name], geom, k, amount, trimmed)
+        how = f"cut {amount * 1000:.1f} mm across the overlap{kept}"
+      else:
+        _cut(parts[name], geom, k, sign, amount, trimmed)
+        how = f"trimmed {amount * 1000:.1f} mm"
+      notes.append(f"collision {kind} '{name}{_GEOM}{index}' of part {name!r} {how} where "
+                   f"the file's own collision shapes overlap part {other!r} by "
+                   f"{depth * 1000:.1f} mm in the assembled pose ({_AIR * 1000:.1f} mm of air "
+                   "left); the part keeps its mass")
       made = True
       cut.update({(part_a, i), (part_b, j)})
     if not made:
@@ -212,12 +279,12 @@ def _misfit(part_a, i, part_b, j, depth, gap, offset, turn):
 def _refusal(parts, part_a, i, part_b, j, depth):
   geoms = [parts[part_a].geoms[i], parts[part_b].geoms[j]]
   kinds = {g.type for g in geoms}
-  if not kinds & {"box", "cylinder"}:
-    why = f"only collision boxes and cylinders are trimmed, these are {sorted(kinds)}"
+  if not kinds & {"box", "cylinder", "mesh"}:
+    why = f"only collision boxes, cylinders and convex meshes are trimmed, these are {sorted(kinds)}"
   elif depth > MAX_TRIM:
     why = f"deeper than the {MAX_TRIM * 1000:.0f} mm a trim may take"
   else:
     why = ("no box or cylinder axis lies along the overlap, or the trim would take more "
-           f"than {MAX_TRIM * 1000:.0f} mm or half the geom's extent")
+           f"than {MAX_TRIM * 1000:.0f} mm or half the geom's extent along it")
   return (f"parts {part_a!r} and {part_b!r} overlap by {depth * 1000:.1f} mm in the assembled "
           f"pose ('{part_a}{_GEOM}{i}', '{part_b}{_GEOM}{j}'); not trimmed: {why}")
