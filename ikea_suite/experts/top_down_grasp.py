@@ -20,6 +20,13 @@ from ikea_suite.tasks import panel_placement
 # tables) are taken as low as the fingertips allow.
 TALL = panel_placement.MIN_HEIGHT
 EDGE_GRIP = 0.02
+# A panel that lies flat once assembled (a carcass's far side, stood on its long edge in
+# the rack: tasks/panel_placement.py) is turned flat on its way in and then juts sideways
+# from the fingers, its weight twisting it about the gripped edge. The fingertips take it
+# FLAT_EDGE_GRIP deep, over the whole pad (the Sawyer's pads are 33 mm long): held by
+# 20 mm, a 200 mm cabinet side (0.41 kg at scale 0.5) slipped out while turning, twice
+# in one episode.
+FLAT_EDGE_GRIP = 0.035
 
 # The open fingers go down to a part slowly: at full speed the hand swings sideways by
 # up to 2.6 cm (Sawyer, 7 cm descent in 3 steps) and a finger lands on the part.
@@ -100,7 +107,7 @@ class TopDownGrasp:
       face = np.mean(bounds, axis=0)
       face[up] = bounds[int(part_rot[2, up] > 0)][up]
       point = part_pos + part_rot @ face
-      point[2] += route.pad_below - EDGE_GRIP
+      point[2] += route.pad_below - (FLAT_EDGE_GRIP if self.turns_flat(part) else EDGE_GRIP)
     closing = part_geometry.across_long_axis(part_rot, bounds) * sign
     rot = arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
     if not below_work_scale.active(self._env):   # (small parts are held near one end already)
@@ -117,6 +124,14 @@ class TopDownGrasp:
     bounds = furniture.spec.parts[part].bounds
     height = np.ptp((geometry.box_corners(*bounds) @ part_rot.T)[:, 2])
     return bool(height >= TALL and panel_placement.is_panel(bounds[1] - bounds[0]))
+
+  def turns_flat(self, part):
+    """Whether `part`, a panel, lies flat (its thin axis vertical) in its assembled place on
+    the root as the root lies now, so that the arm turns it flat from standing."""
+    physics, furniture = self._env.physics, self._env.task.furniture
+    bounds = furniture.spec.parts[part].bounds
+    _, rot = part_geometry.assembled_pose(physics, furniture, self._env.task.root_part, part)
+    return bool(abs(rot[2, int(np.argmin(bounds[1] - bounds[0]))]) > 0.5)
 
   def _room_shift(self, part, sign, point, rot):
     """finger_room's shift of the grasp point (part frame), chosen once per reach for each
