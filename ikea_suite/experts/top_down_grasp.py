@@ -29,6 +29,10 @@ EDGE_GRIP = 0.02
 # episode; held 35 mm deep at full speed, a bookcase side swung out of the Sawyer's grip
 # on the way in 3 times in 5 (bookcase_shelf_unit_billy).
 FLAT_EDGE_GRIP = 0.045
+# ... but no deeper than FLAT_FINGER_ROOT (m) short of the fingers' length: the Panda's
+# fingers (54 mm) taken 45 mm deep stopped 3 mm above the grasp point in every descent
+# onto the panel, and the reach stalled; 35 mm deep the bookcase was completed.
+FLAT_FINGER_ROOT = 0.02
 # Such a panel lands flat on the edges of standing parts (a bookcase's far side on its
 # shelves), and a finger jutting below it would land on one: it is taken at the point of
 # its long edge nearest the middle that lies FLAT_EDGE_CLEAR (m) along the edge from each
@@ -119,7 +123,7 @@ class TopDownGrasp:
       if flat:
         face = self._clear_of_connectors(part, face)
       point = part_pos + part_rot @ face
-      point[2] += route.pad_below - (FLAT_EDGE_GRIP if flat else EDGE_GRIP)
+      point[2] += route.pad_below - (self._flat_grip_depth() if flat else EDGE_GRIP)
     closing = part_geometry.across_long_axis(part_rot, bounds) * sign
     rot = arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
     if not below_work_scale.active(self._env):   # (small parts are held near one end already)
@@ -144,6 +148,13 @@ class TopDownGrasp:
     bounds = furniture.spec.parts[part].bounds
     _, rot = part_geometry.assembled_pose(physics, furniture, self._env.task.root_part, part)
     return bool(abs(rot[2, int(np.argmin(bounds[1] - bounds[0]))]) > 0.5)
+
+  def _flat_grip_depth(self):
+    """How deep (m) the fingertips take a panel turned flat: FLAT_EDGE_GRIP, or
+    FLAT_FINGER_ROOT short of the open fingers' length along the tool axis."""
+    if self._finger_points is None:
+      self._finger_points = finger_room.finger_points(self._robot, self._env.physics, self._arm)
+    return min(FLAT_EDGE_GRIP, np.ptp(self._finger_points[:, 2]) - FLAT_FINGER_ROOT)
 
   def _clear_of_connectors(self, part, face):
     """`face` (part frame, the middle of the top edge) moved along the part's long axis to
