@@ -30,14 +30,14 @@ EDGE_GRIP = 0.02
 # on the way in 3 times in 5 (bookcase_shelf_unit_billy).
 FLAT_EDGE_GRIP = 0.045
 # ... but no deeper than FLAT_FINGER_ROOT (m) short of the fingers' length: the Panda's
-# fingers (54 mm) taken 45 mm deep stopped 3 mm above the grasp point in every descent
-# onto the panel, and the reach stalled; 35 mm deep the bookcase was completed.
+# fingers (54 mm) taken 45 mm deep stopped 3 mm above the grasp point in each of its
+# descents onto the panel (seed 1), and the reach stalled; 35 mm deep it was completed.
 FLAT_FINGER_ROOT = 0.02
 # Such a panel lands flat on the edges of standing parts (a bookcase's far side on its
 # shelves), and a finger jutting below it would land on one: it is taken at the point of
 # its long edge nearest the middle that lies FLAT_EDGE_CLEAR (m) along the edge from each
 # of its connectors. Taken at the middle, over the middle shelf, the Panda's finger (26 mm
-# wide) stood on that shelf 5 cm short of the mate in every insertion.
+# wide) stood on that shelf 2.5 cm short of the mate in every insertion.
 FLAT_EDGE_CLEAR = 0.03
 FLAT_CARRY_SPEED = 0.5
 
