@@ -115,6 +115,16 @@ def test_baxter_expert_gives_each_part_to_the_arm_on_its_side(seed):
     # carry now rises straight up first while the held part would come over a standing
     # part it does not clear (clearance.AssemblyClearance.rise_first).
     pytest.param("table_trestle_l120_white", "panda", 1, id="panda-stretcher-rises-clear"),
+    # The bookcase's far side lies flat on its shelves, 140 mm across, wider than the
+    # Sawyer's or the Panda's open fingers: it lay on the floor and was never taken (3 of
+    # 4 connections), or the bookcase was built at scale 0.24. It stands on its long edge
+    # in the rack now, is taken by that edge and turned flat on its way in
+    # (tasks/panel_placement.FLAT_WIDE, top_down_grasp.FLAT_EDGE_GRIP).
+    # Taken at the middle of its edge, the Panda's finger stood on the middle shelf 2.5 cm
+    # short of the mate in every insertion; it is taken clear of the side's connectors
+    # now (top_down_grasp.FLAT_EDGE_CLEAR), and no deeper than its fingers leave room for
+    # (FLAT_FINGER_ROOT).
+    pytest.param("bookcase_shelf_unit_billy", "panda", 1, id="panda-bookcase-side-turned-flat"),
 ])
 def test_arm_expert_completes_an_episode_it_once_failed(furniture, robot, seed):
   env = ikea_suite.load(furniture, robot, seed=seed, scale=0.5)

@@ -87,10 +87,15 @@ def test_racked_panels_stand_still_until_taken():
   assert max(_tilt_degrees(rotations[racked])) < 0.5
 
 
-def test_only_panels_that_stand_in_the_furniture_are_racked():
-  # A lid lies flat on the box: it stays lying on the floor, like every stool's and
-  # four-leg table's legs, whose placement is unchanged (no rack in their scene).
-  assert "lid" not in _racked_names(_env("box_lidded_white_flat"))
+def test_only_panels_that_stand_in_the_furniture_are_racked(monkeypatch):
+  # A lid lies flat on the box: no wider than FLAT_WIDE it stays lying on the floor, like
+  # every stool's and four-leg table's legs, whose placement is unchanged (no rack in
+  # their scene).
+  spec = _env("box_lidded_white_flat").task.furniture.spec
+  lid = next(i for i, part in enumerate(spec.parts) if part.name == "lid")
+  monkeypatch.setattr(panel_placement, "FLAT_WIDE", 0.2)   # the lid is 180 mm across
+  assert lid not in [i for i, _ in panel_placement.upright_panels(spec, 0, np.eye(3))]
+  monkeypatch.undo()
   for furniture in ("table_four_leg_lack", "stool_round_frosta"):
     env = _env(furniture)
     assert env.task.initializer.racked_parts == []
@@ -98,6 +103,26 @@ def test_only_panels_that_stand_in_the_furniture_are_racked():
   # The Cursor's scattered placement has no rack either.
   cursor = ikea_suite.load("box_open_small_white", "cursor", seed=0)
   assert cursor.task.initializer.fixtures == []
+
+
+@pytest.mark.parametrize("furniture,part", [("box_lidded_white_flat", "lid"),
+                                            ("bookcase_shelf_unit_billy", "side1")])
+def test_a_wide_panel_that_lies_flat_in_the_furniture_stands_on_its_long_edge(furniture, part):
+  # Lying flat it is wider than the Sawyer's open fingers; on its long edge it is taken
+  # across its thickness by that edge (experts/top_down_grasp.py) and turned flat.
+  env = _env(furniture)
+  spec = env.task.furniture.spec
+  index = next(i for i, p in enumerate(spec.parts) if p.name == part)
+  assert index in env.task.initializer.racked_parts
+  _, rotations = env.task.furniture.part_poses(env.physics)
+  extents = spec.parts[index].bounds[1] - spec.parts[index].bounds[0]
+  thin, middle, long = np.argsort(extents)
+  assert extents[middle] > panel_placement.FLAT_WIDE
+  assert abs(rotations[index][2, middle]) > 0.99   # its width stands up
+  assert abs(rotations[index][2, thin]) < 0.1 and abs(rotations[index][2, long]) < 0.1
+  _, assembled = part_geometry.assembled_pose(env.physics, env.task.furniture,
+                                              env.task.root_part, index)
+  assert abs(assembled[2, thin]) > 0.99   # and lies flat once assembled
 
 
 def test_walls_in_the_rack_fit_fingers_that_close_fully_and_are_too_thin_for_the_baxter():

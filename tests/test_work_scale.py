@@ -10,21 +10,23 @@ from ikea_suite.experts import gripper_fit
 from ikea_suite.experts import work_scale
 
 
-def test_stools_stay_at_the_work_scale_and_bookcases_get_their_fit():
+def test_stools_and_bookcases_stay_at_the_work_scale_and_beds_get_their_fit():
   assert work_scale.work_scale("panda", "stool_round_frosta") == 0.5
-  assert work_scale.work_scale("panda", "bookcase_shelf_unit_billy") == work_scale.SMALL_SCALES[
-      "panda"]["bookcase_shelf_unit_billy"] < 0.5
+  # The bookcase's sides stand in the panel rack, the far one on its long edge.
+  assert work_scale.work_scale("panda", "bookcase_shelf_unit_billy") == 0.5
+  assert work_scale.work_scale("panda", "bed_slatted_toddler_white") == work_scale.SMALL_SCALES[
+      "panda"]["bed_slatted_toddler_white"] < 0.5
 
 
 def test_fit_scale_is_the_largest_at_which_every_loose_part_fits():
-  # The billy's shelves and top lie flat (they lie flat in the bookcase); its sides stand
-  # in the panel rack.
-  scale = work_scale.fit_scale("panda", "bookcase_shelf_unit_billy")
-  assert scale == work_scale.SMALL_SCALES["panda"]["bookcase_shelf_unit_billy"]
+  # The bed's side rails lie flat, wider than the open fingers at 0.5.
+  scale = work_scale.fit_scale("panda", "bed_slatted_toddler_white")
+  assert scale == work_scale.SMALL_SCALES["panda"]["bed_slatted_toddler_white"]
   for s, fits in ((scale, True), (scale + 0.02, False)):
-    env = ikea_suite.load("bookcase_shelf_unit_billy", "panda", scale=s, seed=0)
+    env = ikea_suite.load("bed_slatted_toddler_white", "panda", scale=s, seed=0)
     env.reset()
     assert (gripper_fit.grasp_problems(env) == []) == fits
+  assert work_scale.fit_scale("panda", "bookcase_shelf_unit_billy") == 0.5
 
 
 def test_a_racked_plank_bench_fits_fingers_that_close_fully_and_never_the_baxter():

@@ -130,6 +130,7 @@ class ArmAssemblyController:
     self._job = None   # (pair, moving part)
     self._grasp = None   # (position, rotation) of the tool at the grasp
     self._hanging = False   # the part is held by its top edge (top_down_grasp.by_top_edge)
+    self._turning_flat = False   # ... and is turned flat on its way (top_down_grasp.turns_flat)
     self._plan = None   # (pair, twist) the held part is brought to
     self._grasp_sign = 1.0   # which of the two symmetric grasps
     self._unreachable = set()   # parts the arm stalled on; skipped until the next connection
@@ -280,6 +281,7 @@ class ArmAssemblyController:
         top_down_grasp.EDGE_GATE if edge else 0.006):
       self.phase, self._counter, self._stalled = Phase.CLOSE, 0, 0
       self._grasp, self._hanging = (goal, rot), edge
+      self._turning_flat = edge and self._grasps.turns_flat(moving)
 
   def _reach_stalled(self, moving):
     """Counts a step of the reach or descent; past `stall_steps` the arm cannot get there:
@@ -413,7 +415,9 @@ class ArmAssemblyController:
     high = self._carry_height.waypoint(goal, moving, part_pos, part_rot, self._hanging)
     waypoint = self._clearance.rise_first(self._clearance.arc_waypoint(high), moving, high[2])
     command.tool[:] = self._servo(robot, physics, arm, waypoint, goal[1],
-                                  max_turn=arm_motion.CARRY_TURN)
+                                  max_turn=arm_motion.CARRY_TURN,
+                                  max_speed=top_down_grasp.FLAT_CARRY_SPEED
+                                  if self._turning_flat else 1.0)
     distance, angle = arm_motion.pose_error(robot, physics, arm, high, goal[1])
     self._carrying = not (distance < 0.03 and angle < 0.05)
     if not self._carrying:

@@ -20,6 +20,26 @@ from ikea_suite.tasks import panel_placement
 # tables) are taken as low as the fingertips allow.
 TALL = panel_placement.MIN_HEIGHT
 EDGE_GRIP = 0.02
+# A panel that lies flat once assembled (a carcass's far side, stood on its long edge in
+# the rack: tasks/panel_placement.py) is turned flat on its way in and then juts sideways
+# from the fingers, its weight twisting it about the gripped edge. The fingertips take it
+# FLAT_EDGE_GRIP deep, past the whole pad (the Sawyer's pads are 33 mm long, its squeeze
+# 22 N), and the carry goes at FLAT_CARRY_SPEED of the arm's top speed: held 20 mm deep, a
+# 200 mm cabinet side (0.41 kg at scale 0.5) slipped out while turning, twice in one
+# episode; held 35 mm deep at full speed, a bookcase side swung out of the Sawyer's grip
+# on the way in 3 times in 5 (bookcase_shelf_unit_billy).
+FLAT_EDGE_GRIP = 0.045
+# ... but no deeper than FLAT_FINGER_ROOT (m) short of the fingers' length: the Panda's
+# fingers (54 mm) taken 45 mm deep stopped 3 mm above the grasp point in each of its
+# descents onto the panel (seed 1), and the reach stalled; 35 mm deep it was completed.
+FLAT_FINGER_ROOT = 0.02
+# Such a panel lands flat on the edges of standing parts (a bookcase's far side on its
+# shelves), and a finger jutting below it would land on one: it is taken at the point of
+# its long edge nearest the middle that lies FLAT_EDGE_CLEAR (m) along the edge from each
+# of its connectors. Taken at the middle, over the middle shelf, the Panda's finger (26 mm
+# wide) stood on that shelf 2.5 cm short of the mate in every insertion.
+FLAT_EDGE_CLEAR = 0.03
+FLAT_CARRY_SPEED = 0.5
 
 # The open fingers go down to a part slowly: at full speed the hand swings sideways by
 # up to 2.6 cm (Sawyer, 7 cm descent in 3 steps) and a finger lands on the part.
@@ -99,8 +119,11 @@ class TopDownGrasp:
       up = int(np.argmax(np.abs(part_rot[2])))
       face = np.mean(bounds, axis=0)
       face[up] = bounds[int(part_rot[2, up] > 0)][up]
+      flat = self.turns_flat(part)
+      if flat:
+        face = self._clear_of_connectors(part, face)
       point = part_pos + part_rot @ face
-      point[2] += route.pad_below - EDGE_GRIP
+      point[2] += route.pad_below - (self._flat_grip_depth() if flat else EDGE_GRIP)
     closing = part_geometry.across_long_axis(part_rot, bounds) * sign
     rot = arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
     if not below_work_scale.active(self._env):   # (small parts are held near one end already)
@@ -117,6 +140,38 @@ class TopDownGrasp:
     bounds = furniture.spec.parts[part].bounds
     height = np.ptp((geometry.box_corners(*bounds) @ part_rot.T)[:, 2])
     return bool(height >= TALL and panel_placement.is_panel(bounds[1] - bounds[0]))
+
+  def turns_flat(self, part):
+    """Whether `part`, a panel, lies flat (its thin axis vertical) in its assembled place on
+    the root as the root lies now, so that the arm turns it flat from standing."""
+    physics, furniture = self._env.physics, self._env.task.furniture
+    bounds = furniture.spec.parts[part].bounds
+    _, rot = part_geometry.assembled_pose(physics, furniture, self._env.task.root_part, part)
+    return bool(abs(rot[2, int(np.argmin(bounds[1] - bounds[0]))]) > 0.5)
+
+  def _flat_grip_depth(self):
+    """How deep (m) the fingertips take a panel turned flat: FLAT_EDGE_GRIP, or
+    FLAT_FINGER_ROOT short of the open fingers' length along the tool axis."""
+    if self._finger_points is None:
+      self._finger_points = finger_room.finger_points(self._robot, self._env.physics, self._arm)
+    return min(FLAT_EDGE_GRIP, np.ptp(self._finger_points[:, 2]) - FLAT_FINGER_ROOT)
+
+  def _clear_of_connectors(self, part, face):
+    """`face` (part frame, the middle of the top edge) moved along the part's long axis to
+    the nearest point FLAT_EDGE_CLEAR from each of its connectors (unmoved with none such
+    on the edge)."""
+    furniture = self._env.task.furniture
+    bounds = furniture.spec.parts[part].bounds
+    table = furniture.connectors
+    axis = int(np.argmax(bounds[1] - bounds[0]))
+    along = table.local_pos[table.part == part][:, axis]
+    candidates = np.arange(bounds[0][axis] + FLAT_EDGE_CLEAR,
+                           bounds[1][axis] - FLAT_EDGE_CLEAR, 0.001)
+    clear = candidates[(np.abs(candidates[:, None] - along[None, :]) >= FLAT_EDGE_CLEAR).all(1)]
+    if clear.size:
+      face = face.copy()
+      face[axis] = clear[np.argmin(np.abs(clear - face[axis]))]
+    return face
 
   def _room_shift(self, part, sign, point, rot):
     """finger_room's shift of the grasp point (part frame), chosen once per reach for each

@@ -2,8 +2,8 @@
 furniture whose loose parts are too wide for its gripper there, the largest scale at
 which every loose part fits between its closed and open fingertips.
 
-Grasp widths shrink with the scale and the gripper does not, so a bookcase's side lying
-flat, 140 mm across at scale 0.5, fits the Panda's 79 mm at 0.24.
+Grasp widths shrink with the scale and the gripper does not, so a slatted bed's side
+rail, 77 mm across at scale 0.5, fits the Panda's 79 mm (less 5 mm a side) at 0.44.
 `fit_scale` measures that scale from the compiled models (gripper_fit.grasp_problems'
 test, widths as the parts lie on seed 0 at full size); SMALL_SCALES holds its values,
 so that loading needs no measurement (`python -m ikea_suite.experts.work_scale
@@ -17,28 +17,18 @@ from ikea_suite.props import scaling
 # fit_scale's values for the models whose parts do not fit at the robot's WORK_SCALE;
 # every other model is assembled at WORK_SCALE. Measured for each robot with the panel
 # rack (tasks/panel_placement.py), which stands box walls, bench ends, bookcase and
-# cabinet sides and headboards upright: they are taken across their thickness, so the
-# boxes and plank benches fit both grippers at 0.5. The Sawyer's fingers, one slot in
-# (grippers.RETHINK_SLOT_1), meet when closed and open to 60 mm: 56 models fit it at
-# 0.5, the slatted beds at 0.33 and the CD tower at 0.24.
+# cabinet sides and headboards upright, and stands a wide panel that lies flat in the
+# furniture (a carcass's far side, a wide lid or shelf) on its long edge: they are taken
+# across their thickness, so the bookcases, cabinets, lidded boxes, slatted benches and
+# TV benches fit both grippers at 0.5. The Sawyer's fingers, one slot in
+# (grippers.RETHINK_SLOT_1), meet when closed and open to 60 mm; the slatted beds' side
+# rails need a smaller scale.
 _SLATTED_BEDS = tuple(f"bed_slatted_{v}" for v in (
     "day_black", "junior_pine", "kids_birch_open", "kids_dark_open", "kids_white",
     "toddler_white"))
 SMALL_SCALES = {
-    "sawyer": {**dict.fromkeys(_SLATTED_BEDS, 0.33),
-               "bookcase_shelf_unit_cd_tower": 0.24},
-    "panda": {**dict.fromkeys(_SLATTED_BEDS, 0.45),
-              **{f"bookcase_shelf_unit_{v}": 0.24 for v in (
-                  "billy", "w40_h106_white", "w40_h202_oak", "w60_h140_pine",
-                  "w60_h80_open", "w80_h106_birch", "w80_h106_white", "w80_h202_black",
-                  "w80_h202_white")},
-              "bookcase_shelf_unit_cd_tower": 0.34,
-              "bookcase_shelf_unit_kids_w60_white": 0.22,
-              "bench_slatted_pine_three": 0.2,
-              "box_lidded_oak": 0.22,
-              "cabinet_doors_wall_w60_dark": 0.22,
-              "tv_unit_bench_black": 0.23,
-              "tv_unit_bench_oak": 0.23},
+    "sawyer": dict.fromkeys(_SLATTED_BEDS, 0.32),
+    "panda": dict.fromkeys(_SLATTED_BEDS, 0.44),
 }
 
 

@@ -8,8 +8,13 @@ cabinet side. It stands in its slot as it will stand in the furniture, up to a
 turn about the vertical, so the arm carries it upright from the rack to its mate.
 Rods and blocks (legs, the parts of every stool and four-leg table in the
 catalog) still lie on the floor, and so does a panel that lies flat when
-assembled (a shelf, a lid). A round panel (a disc: a round seat, a round table
-top) stands in a slot with chocks (props/panel_rack.py).
+assembled and is at most FLAT_WIDE across (a narrow shelf or lid, which a gripper
+takes across lying flat). A wider one (the far side of a bookcase, cabinet or
+dresser built lying on its other side, a shelving ladder, a wide lid) stands in its
+slot on its long edge, so that a gripper takes it across its thickness by that edge
+and turns it flat on the way to its mate (experts/top_down_grasp.py). A round panel
+(a disc: a round seat, a round table top) stands in a slot with chocks
+(props/panel_rack.py).
 """
 
 import numpy as np
@@ -31,6 +36,10 @@ RACK_SPARE = 0.1
 # its upside-down seat) goes in once the expert has turned the assembly over
 # (experts/turn_over.py), so it stands in the rack the way up it will then have.
 UNDER = 0.01
+# A panel lying flat when assembled and wider than this (m, across its long axis) stands
+# on its long edge in the rack: lying flat it is wider than the narrowest open gripper of
+# the arms (the Sawyer's, 60 mm), and nothing takes a flat panel by an edge on the floor.
+FLAT_WIDE = 0.06
 
 
 def is_panel(extents):
@@ -55,7 +64,8 @@ def is_disc(part, thin_axis):
 def upright_panels(spec, root, root_rest):
   """[(part, rotation)] of the parts to rack: each panel's world rotation in the furniture
   assembled onto the root lying at `root_rest` (3, 3) (turned over, for a panel under
-  the root), turned about z so that its thickness lies along x (the rack's row)."""
+  the root; stood on its long edge, for a wide one lying flat there), turned about z so
+  that its thickness lies along x (the rack's row)."""
   design_to_world = root_rest @ spec.parts[root].rot.T
 
   def lowest(part):
@@ -73,7 +83,11 @@ def upright_panels(spec, root, root_rest):
       rot = geometry.HALF_TURN_X @ rot
     normal = rot[:, order[0]]
     if abs(normal[2]) > 0.5:   # lies flat when assembled
-      continue
+      if extents[order[1]] <= FLAT_WIDE:
+        continue
+      # On its long edge: a quarter turn about its long axis, which lies horizontal.
+      rot = geometry.axis_angle_to_mat(rot[:, order[2]] * np.pi / 2) @ rot
+      normal = rot[:, order[0]]
     rot = geometry.rot_z(-np.arctan2(normal[1], normal[0])) @ rot
     if np.ptp((geometry.box_corners(*part.bounds) @ rot.T)[:, 2]) >= MIN_HEIGHT:
       out.append((index, rot))
