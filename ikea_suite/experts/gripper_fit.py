@@ -34,7 +34,7 @@ class GraspProblem:
     spare = (f" less {500 * self.clearance:.0f} mm a side"
              if self.width > closed and self.width < opened else "")
     return (f"{self.part}: {1000 * self.width:.0f} mm across the fingers, {side} "
-            f"fingers' gap ({1000 * closed:.0f}-{1000 * opened:.0f} mm){spare}")
+            f"fingers' gap ({1000 * closed:.0f} to {1000 * opened:.0f} mm){spare}")
 
 
 # Room (m) a part must leave within the open fingers' gap: 5 mm a side, the expert's
