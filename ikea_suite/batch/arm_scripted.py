@@ -44,8 +44,12 @@ TIP_CLEARANCE = 0.004  # m between the fingertips and the part's underside (or t
 CLOSE_STEPS = 10      # control steps the fingers squeeze before lifting (0.5 s)
 CARRY_MARGIN = 0.04   # m of clearance under the carried part's lowest point
 APPROACH = 0.03       # m above the mated pose from which the part goes in
-GRIP_OFFSET = 0.3     # fraction of the half length from the centre, away from the mate
+GRIP_OFFSET = 0.3     # fraction of the half length from the centre the grasps take
 POS_TOL, ROT_TOL = 0.006, 0.06   # m, rad: a waypoint is reached
+# m, rad: the carried part is close enough above its mate to go in (the insertion goes on
+# correcting its pose); held to POS_TOL, ROT_TOL the servo hunted round the last
+# centimetre long enough for the part to slip out of the grip.
+CARRY_GATE = (0.02, 0.1)
 CARRY_GAIN = 0.5      # fraction of the part's pose error the target takes per step
 DESCEND_GAIN = 0.4    # fraction of a full step the open hand goes down by
 CARRY_TURN = 0.3      # fraction of the top turning speed a held part turns at
@@ -94,7 +98,7 @@ class ExpertState(typing.NamedTuple):
   grip_pos: jnp.ndarray    # (3,) part position in the tool frame, set when closing ends
   grip_rot: jnp.ndarray    # (3, 3)
   chosen: jnp.ndarray      # bool: grasp and twist chosen (choose) for this episode
-  grasp: jnp.ndarray       # int32: which of the two grasps across the part's long axis
+  grasp: jnp.ndarray       # int32: which of the four grasps across the part's long axis
   twist: jnp.ndarray       # int32: which of the pair's allowed twists the part mates at
 
 
@@ -174,11 +178,12 @@ def initial_state():
 
 
 def loose_part(env, state):
-  """The part outside the root's group (the last part), or the suggested moving part."""
+  """The part in the smallest group (the last part, outside the joined ones; it may be
+  the root part, such as a bench's seat laid beside its joined legs), or part 0 when all
+  are joined."""
   group = state.task.group
-  root = group[env.tables.order[0]]
-  outside = group != root
-  return jnp.where(outside.any(), jnp.argmax(outside), 0)
+  sizes = (group[:, None] == group[None, :]).sum(axis=1)
+  return jnp.where(sizes.min() < sizes.max(), jnp.argmin(sizes), 0)
 
 
 def _corners(pos, rot, center, half):
@@ -187,14 +192,16 @@ def _corners(pos, rot, center, half):
 
 
 def _grasps(plan_, home_rot, part_pos, part_rot, m):
-  """The two top-down grasps of part m lying at (part_pos, part_rot): the tool position
-  (3,) and its two rotations (2, 3, 3), pointing down with the fingers across the part's
-  long axis, the second turned half a turn about the vertical from the first."""
+  """The four top-down grasps of part m lying at (part_pos, part_rot): tool positions
+  (4, 3) and rotations (4, 3, 3), pointing down with the fingers across the part's long
+  axis, GRIP_OFFSET of the half length from the centre away from the mate's connector
+  (grasps 0, 1) or towards it (2, 3), the odd ones turned half a turn about the vertical."""
   center, half = plan_.center[m], plan_.half[m]
   long_local = jnp.zeros(3).at[jnp.argmax(half)].set(1.0)
-  point = part_pos + rigid.apply(part_rot, center + plan_.away[m] * half * GRIP_OFFSET)
   low = jnp.maximum(jnp.min(_corners(part_pos, part_rot, center, half)[:, 2]), 0.0)
-  point = point.at[2].set(low + plan_.pad_below + TIP_CLEARANCE)
+  points = jnp.stack([part_pos + rigid.apply(part_rot, center + side * plan_.away[m] * half
+                                             * GRIP_OFFSET) for side in (1.0, -1.0)])
+  points = points.at[:, 2].set(low + plan_.pad_below + TIP_CLEARANCE)
   long_world = rigid.apply(part_rot, long_local)
   across = jnp.array([-long_world[1], long_world[0], 0.0])
   across = across / jnp.maximum(jnp.linalg.norm(across), 1e-9)
@@ -202,7 +209,13 @@ def _grasps(plan_, home_rot, part_pos, part_rot, m):
   yaw = jnp.arctan2(home_closing[0] * across[1] - home_closing[1] * across[0],
                     home_closing[0] * across[0] + home_closing[1] * across[1])
   yaw = jnp.where(yaw > jnp.pi / 2, yaw - jnp.pi, jnp.where(yaw < -jnp.pi / 2, yaw + jnp.pi, yaw))
-  return point, jnp.stack([rigid.rot_z(yaw) @ home_rot, rigid.rot_z(yaw + jnp.pi) @ home_rot])
+  rots = jnp.stack([rigid.rot_z(yaw) @ home_rot, rigid.rot_z(yaw + jnp.pi) @ home_rot])
+  return points[jnp.array([0, 0, 1, 1])], rots[jnp.array([0, 1, 0, 1])]
+
+
+def _depth(rot, center, half):
+  """How far (m) a part's box reaches below its origin at rotation `rot`."""
+  return -jnp.min(_corners(jnp.zeros(3), rot, center, half)[:, 2])
 
 
 def _mated_poses(plan_, part_pos, part_rot, m):
@@ -261,29 +274,29 @@ def choose(env, plan_, state):
     state: the world's arm_env.State.
 
   Returns:
-    (grasp index (0 or 1), twist index), int32 scalars.
+    (grasp index (0 to 3, see _grasps), twist index), int32 scalars.
   """
   am = env.arm_model
   m = loose_part(env, state)
   part_pos, part_rot = task_state.part_poses(env.tables, state.data.qpos)
   home_rot = rigid.real(am.home_tcp_rot)
-  point, grasp_rots = _grasps(plan_, home_rot, part_pos[m], part_rot[m], m)
+  points, grasp_rots = _grasps(plan_, home_rot, part_pos[m], part_rot[m], m)
   goal_pos, goal_rots = _mated_poses(plan_, part_pos, part_rot, m)
-  hover = point + jnp.array([0.0, 0.0, HOVER])
+  hovers = points + jnp.array([0.0, 0.0, HOVER])
   q = state.data.qpos[jnp.asarray(am.arm_qpos)]
-  q_hover = jax.vmap(lambda r: _servo_end(env, q, hover, r, REACH_ITERATIONS))(grasp_rots)
-  grip_pos = rigid.apply(part_rot[m].T, point - part_pos[m])
+  q_hover = jax.vmap(lambda p, r: _servo_end(env, q, p, r, REACH_ITERATIONS))(hovers, grasp_rots)
 
   def cost(g, k):
+    grip_pos = rigid.apply(part_rot[m].T, points[g] - part_pos[m])
     grip_rot = part_rot[m].T @ grasp_rots[g]
     tool_rot = goal_rots[k] @ grip_rot
     tool_pos = goal_pos[k] + jnp.array([0.0, 0.0, APPROACH]) + rigid.apply(goal_rots[k],
                                                                            grip_pos)
     end = _servo_end(env, q_hover[g], tool_pos, tool_rot, CARRY_ITERATIONS)
-    return _reach_cost(env, end, tool_pos, tool_rot) + _reach_cost(env, q_hover[g], hover,
+    return _reach_cost(env, end, tool_pos, tool_rot) + _reach_cost(env, q_hover[g], hovers[g],
                                                                    grasp_rots[g])
 
-  grasps = jnp.arange(2)
+  grasps = jnp.arange(points.shape[0])
   twists = jnp.arange(plan_.twists.shape[1])
   costs = jax.vmap(lambda g: jax.vmap(lambda k: cost(g, k))(twists))(grasps)   # (2, t)
   costs = jnp.where(plan_.twist_valid[m][None], costs, jnp.inf)
@@ -318,17 +331,19 @@ def act(env, plan_, expert, state):
   home_rot = rigid.real(am.home_tcp_rot)
   # The mated pose of m at the chosen twist, and the chosen grasp.
   goal_pos, goal_rot = (x[expert.twist] for x in _mated_poses(plan_, part_pos, part_rot, m))
-  grasp_pos, grasp_rots = _grasps(plan_, home_rot, part_pos[m], part_rot[m], m)
-  grasp_rot = grasp_rots[expert.grasp]
+  grasp_points, grasp_rots = _grasps(plan_, home_rot, part_pos[m], part_rot[m], m)
+  grasp_pos, grasp_rot = grasp_points[expert.grasp], grasp_rots[expert.grasp]
   hover = grasp_pos + jnp.array([0.0, 0.0, HOVER])
   # The carry height keeps the part, however it is turned, CARRY_MARGIN clear of its
   # mated pose's height and of the top of everything else (the legs already standing on
   # the assembly: passing among them knocked the part out of the grip).
-  extent = jnp.linalg.norm(plan_.half[m])
   corners = jax.vmap(_corners)(part_pos, part_rot, plan_.center, plan_.half)   # (p, 8, 3)
   others = jnp.arange(part_pos.shape[0]) != m
   others_top = jnp.max(jnp.where(others, corners[:, :, 2].max(axis=1), 0.0))
-  carry_z = extent + CARRY_MARGIN + jnp.maximum(jnp.maximum(goal_pos[2], others_top), 0.0)
+  depth = jnp.maximum(_depth(part_rot[m], plan_.center[m], plan_.half[m]),
+                      _depth(goal_rot, plan_.center[m], plan_.half[m]))
+  carry_z = CARRY_MARGIN + jnp.maximum(others_top + depth,
+                                       jnp.maximum(goal_pos[2], 0.0) + depth)
   above = goal_pos + jnp.array([0.0, 0.0, APPROACH])
   # The task-space target moved by the part's present pose error: the target integrates
   # the error, so the tool's tracking offset (gravity on the servos) and slip in the grip
@@ -378,7 +393,7 @@ def act(env, plan_, expert, state):
       at(grasp_pos, grasp_rot) | (steps > 40),
       steps >= CLOSE_STEPS,
       part_pos[m][2] > carry_z - 0.01,
-      (carry_err[0] < POS_TOL) & (carry_err[1] < ROT_TOL),
+      (carry_err[0] < CARRY_GATE[0]) & (carry_err[1] < CARRY_GATE[1]),
       jnp.bool_(False),
   ])[phase]
   next_phase = jnp.where(advance, jnp.minimum(phase + 1, INSERT), phase)
