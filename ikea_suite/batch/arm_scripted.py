@@ -21,6 +21,15 @@ frame measured when the fingers closed). Phases:
   CARRY    move and turn so the part's pose is its mated pose raised by APPROACH
   INSERT   lower it onto the mate with connect on; the task snaps and welds it
 
+A part that leaves the hand after CLOSE (missed, or dropped on the way) sends the world
+back to REACH.
+
+The grasp and the twist are chosen per world when its episode starts (choose): of four
+top-down grasps (either end of the part, the hand either way round) and the pair's
+allowed twists, the one whose tool pose above the mate the arm's IK reaches best from
+the grasp, joints clear of their ranges, as the CPU expert's choose_grasp_sign and
+plan_mating rank theirs (experts/mating.py).
+
 While carrying, the tool's command is the part's pose error applied to the tool (as
 batch/scripted.py steers the Cursor's part), so slip in the grip is corrected too.
 """
@@ -50,6 +59,7 @@ POS_TOL, ROT_TOL = 0.006, 0.06   # m, rad: a waypoint is reached
 # correcting its pose); held to POS_TOL, ROT_TOL the servo hunted round the last
 # centimetre long enough for the part to slip out of the grip.
 CARRY_GATE = (0.02, 0.1)
+LOST = 0.05           # m the part may move from where the closed fingers held it
 CARRY_GAIN = 0.5      # fraction of the part's pose error the target takes per step
 DESCEND_GAIN = 0.4    # fraction of a full step the open hand goes down by
 CARRY_TURN = 0.3      # fraction of the top turning speed a held part turns at
@@ -397,11 +407,17 @@ def act(env, plan_, expert, state):
       jnp.bool_(False),
   ])[phase]
   next_phase = jnp.where(advance, jnp.minimum(phase + 1, INSERT), phase)
+  # A part that is not in the hand after the fingers closed (they missed it, or it fell
+  # out on the way) is taken again from where it lies, the grasp and twist chosen anew.
+  lost = (phase >= LIFT) & (jnp.linalg.norm(part_pos[m] - tool_pos)
+                            > jnp.linalg.norm(expert.grip_pos) + LOST)
+  advance = advance | lost
+  next_phase = jnp.where(lost, REACH, next_phase)
   grip_pos = rigid.apply(tool_rot.T, part_pos[m] - tool_pos)
   grip_rot = tool_rot.T @ part_rot[m]
   closing_done = (phase == CLOSE) & advance
   expert = expert._replace(
-      phase=next_phase, steps=jnp.where(advance, 0, steps + 1),
+      phase=next_phase, steps=jnp.where(advance, 0, steps + 1), chosen=expert.chosen & ~lost,
       grip_pos=jnp.where(closing_done, grip_pos, expert.grip_pos),
       grip_rot=jnp.where(closing_done, grip_rot, expert.grip_rot))
   action = jnp.concatenate([tool_action, gripper[None], connect[None]])
