@@ -9,7 +9,7 @@ included); exits 1 if any model is below --min-success. The MJX implementation i
 backend.default_impl() (Warp on a GPU) unless --impl; --host-physics steps the physics
 with MuJoCo's C library instead (the CPU tests' path, tests/test_batch_arm.py).
 
-  python scripts/batch_arm_expert.py [--robot panda] [--worlds 1024] [--steps 260]
+  python scripts/batch_arm_expert.py [--robot panda] [--worlds 1024] [--steps 600]
       [--furniture table_four_leg_lack stool_square_pine bench_plank_pine]
 """
 
@@ -31,7 +31,7 @@ def main(argv=None):
   parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
   parser.add_argument("--robot", default="panda", choices=arm_env.ROBOTS)
   parser.add_argument("--worlds", type=int, default=1024)
-  parser.add_argument("--steps", type=int, default=260)
+  parser.add_argument("--steps", type=int, default=600)
   parser.add_argument("--seed", type=int, default=0)
   parser.add_argument("--min-success", type=float, default=0.9)
   parser.add_argument("--furniture", nargs="*", default=list(FURNITURE))

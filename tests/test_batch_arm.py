@@ -157,11 +157,23 @@ def test_vector_env_for_the_panda():
     assert space.dtype == np.asarray(cpu_obs[key]).dtype, key
 
 
-def test_scripted_expert_grasps_lifts_and_carries(env):
-  """In every world the expert closes the hand on the loose part and lifts it clear of the
-  floor to the carry height (phase CARRY), the part held in the fingers."""
+def test_expert_chooses_an_allowed_twist_and_a_grasp_per_world(env):
+  plan_ = arm_scripted.plan(env)
+  with env.precision():
+    state = env.reset_batch(jax.random.PRNGKey(0), 4)
+    grasp, twist = jax.jit(jax.vmap(lambda s: arm_scripted.choose(env, plan_, s)))(state)
+    loose = jax.vmap(lambda s: arm_scripted.loose_part(env, s))(state)
+  valid = np.asarray(plan_.twist_valid)[np.asarray(loose), np.asarray(twist)]
+  assert valid.all(), (loose, twist)
+  assert set(np.asarray(grasp).tolist()) <= {0, 1, 2, 3}
+
+
+def test_scripted_expert_takes_the_last_leg_to_its_mate(env):
+  """The expert grasps, lifts, turns and carries the loose leg onto the turned-over top
+  and connects it: the table completes in some of these 4 worlds within 200 steps
+  (measured: 2, by step 170; docs/batch.md gives the rates over more worlds and seeds)."""
   start = time.time()
-  success, steps, phase = arm_scripted.rollout(env, 4, 140, seed=0, host_physics=True)
-  print(f"phases after 140 steps {phase.tolist()} ({time.time() - start:.0f} s); "
-        f"completed {int(success.sum())}/4")
-  assert (phase >= arm_scripted.CARRY).all(), phase
+  success, steps, phase = arm_scripted.rollout(env, 4, 200, seed=0, host_physics=True)
+  print(f"phases after 200 steps {phase.tolist()} ({time.time() - start:.0f} s); "
+        f"completed {int(success.sum())}/4 at steps {steps.tolist()}")
+  assert success.sum() >= 1, phase

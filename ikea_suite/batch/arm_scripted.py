@@ -21,6 +21,15 @@ frame measured when the fingers closed). Phases:
   CARRY    move and turn so the part's pose is its mated pose raised by APPROACH
   INSERT   lower it onto the mate with connect on; the task snaps and welds it
 
+A part that leaves the hand after CLOSE (missed, or dropped on the way) sends the world
+back to REACH.
+
+The grasp and the twist are chosen per world when its episode starts (choose): of four
+top-down grasps (either end of the part, the hand either way round) and the pair's
+allowed twists, the one whose tool pose above the mate the arm's IK reaches best from
+the grasp, joints clear of their ranges, as the CPU expert's choose_grasp_sign and
+plan_mating rank theirs (experts/mating.py).
+
 While carrying, the tool's command is the part's pose error applied to the tool (as
 batch/scripted.py steers the Cursor's part), so slip in the grip is corrected too.
 """
@@ -44,10 +53,24 @@ TIP_CLEARANCE = 0.004  # m between the fingertips and the part's underside (or t
 CLOSE_STEPS = 10      # control steps the fingers squeeze before lifting (0.5 s)
 CARRY_MARGIN = 0.04   # m of clearance under the carried part's lowest point
 APPROACH = 0.03       # m above the mated pose from which the part goes in
-GRIP_OFFSET = 0.3     # fraction of the half length from the centre, away from the mate
+GRIP_OFFSET = 0.3     # fraction of the half length from the centre the grasps take
 POS_TOL, ROT_TOL = 0.006, 0.06   # m, rad: a waypoint is reached
+# m, rad: the carried part is close enough above its mate to go in (the insertion goes on
+# correcting its pose); held to POS_TOL, ROT_TOL the servo hunted round the last
+# centimetre long enough for the part to slip out of the grip.
+CARRY_GATE = (0.02, 0.1)
+LOST = 0.05           # m the part may move from where the closed fingers held it
 CARRY_GAIN = 0.5      # fraction of the part's pose error the target takes per step
 DESCEND_GAIN = 0.4    # fraction of a full step the open hand goes down by
+CARRY_TURN = 0.15     # fraction of the top turning speed a held part turns at (see act)
+# The choice of grasp and twist (choose): IK steps of at most IK_STEP rad follow the
+# servo's path, REACH_ITERATIONS of them to the hover and CARRY_ITERATIONS on to the
+# mate; a rotation miss of 1 rad costs as much as ROTATION_MISS_WEIGHT m of position
+# miss, and a joint closer than LIMIT_MARGIN rad to its range costs the shortfall.
+IK_STEP = 0.1
+REACH_ITERATIONS, CARRY_ITERATIONS = 40, 60
+ROTATION_MISS_WEIGHT = 0.1
+LIMIT_MARGIN = 0.3
 
 
 class Plan(typing.NamedTuple):
@@ -84,6 +107,9 @@ class ExpertState(typing.NamedTuple):
   steps: jnp.ndarray       # int32 control steps in the phase
   grip_pos: jnp.ndarray    # (3,) part position in the tool frame, set when closing ends
   grip_rot: jnp.ndarray    # (3, 3)
+  chosen: jnp.ndarray      # bool: grasp and twist chosen (choose) for this episode
+  grasp: jnp.ndarray       # int32: which of the four grasps across the part's long axis
+  twist: jnp.ndarray       # int32: which of the pair's allowed twists the part mates at
 
 
 def _finger_geometry(env):
@@ -157,15 +183,17 @@ def plan(env):
 def initial_state():
   """The expert's memory at an episode's start."""
   return ExpertState(phase=jnp.int32(REACH), steps=jnp.int32(0), grip_pos=jnp.zeros(3),
-                     grip_rot=jnp.eye(3))
+                     grip_rot=jnp.eye(3), chosen=jnp.bool_(False), grasp=jnp.int32(0),
+                     twist=jnp.int32(0))
 
 
 def loose_part(env, state):
-  """The part outside the root's group (the last part), or the suggested moving part."""
+  """The part in the smallest group (the last part, outside the joined ones; it may be
+  the root part, such as a bench's seat laid beside its joined legs), or part 0 when all
+  are joined."""
   group = state.task.group
-  root = group[env.tables.order[0]]
-  outside = group != root
-  return jnp.where(outside.any(), jnp.argmax(outside), 0)
+  sizes = (group[:, None] == group[None, :]).sum(axis=1)
+  return jnp.where(sizes.min() < sizes.max(), jnp.argmin(sizes), 0)
 
 
 def _corners(pos, rot, center, half):
@@ -173,29 +201,17 @@ def _corners(pos, rot, center, half):
   return pos + rigid.apply(rot, center + signs * half)
 
 
-def _twist_from_home(rot, home_rot):
-  """Angle (rad) by which tool rotation `rot` is turned about its own approach axis from
-  the home orientation tilted the shortest way onto that axis: how far the wrist's last
-  joint is wound from home, near enough to choose between two grasps."""
-  down = home_rot[:, 2]
-  axis = rot[:, 2]
-  tilt_axis = jnp.cross(down, axis)
-  sin, cos = jnp.linalg.norm(tilt_axis), jnp.dot(down, axis)
-  tilt = arm_control._axis_rot(tilt_axis / jnp.maximum(sin, 1e-9), jnp.arctan2(sin, cos))
-  reference = tilt @ home_rot
-  return jnp.abs(arm_control.rotation_vector(rot @ reference.T) @ axis)
-
-
-def _grasp(plan_, home_rot, part_pos, part_rot, m, carry_turn):
-  """Tool pose (pos, rot) of the top-down grasp of part m lying at (part_pos, part_rot):
-  of the two grasps across its long axis, the one whose tool, once the part is turned by
-  `carry_turn` (world) onto its mate, is wound least from home about its approach axis
-  (the other may need the wrist past its range)."""
+def _grasps(plan_, home_rot, part_pos, part_rot, m):
+  """The four top-down grasps of part m lying at (part_pos, part_rot): tool positions
+  (4, 3) and rotations (4, 3, 3), pointing down with the fingers across the part's long
+  axis, GRIP_OFFSET of the half length from the centre away from the mate's connector
+  (grasps 0, 1) or towards it (2, 3), the odd ones turned half a turn about the vertical."""
   center, half = plan_.center[m], plan_.half[m]
   long_local = jnp.zeros(3).at[jnp.argmax(half)].set(1.0)
-  point = part_pos + rigid.apply(part_rot, center + plan_.away[m] * half * GRIP_OFFSET)
   low = jnp.maximum(jnp.min(_corners(part_pos, part_rot, center, half)[:, 2]), 0.0)
-  point = point.at[2].set(low + plan_.pad_below + TIP_CLEARANCE)
+  points = jnp.stack([part_pos + rigid.apply(part_rot, center + side * plan_.away[m] * half
+                                             * GRIP_OFFSET) for side in (1.0, -1.0)])
+  points = points.at[:, 2].set(low + plan_.pad_below + TIP_CLEARANCE)
   long_world = rigid.apply(part_rot, long_local)
   across = jnp.array([-long_world[1], long_world[0], 0.0])
   across = across / jnp.maximum(jnp.linalg.norm(across), 1e-9)
@@ -203,15 +219,19 @@ def _grasp(plan_, home_rot, part_pos, part_rot, m, carry_turn):
   yaw = jnp.arctan2(home_closing[0] * across[1] - home_closing[1] * across[0],
                     home_closing[0] * across[0] + home_closing[1] * across[1])
   yaw = jnp.where(yaw > jnp.pi / 2, yaw - jnp.pi, jnp.where(yaw < -jnp.pi / 2, yaw + jnp.pi, yaw))
-  first, second = rigid.rot_z(yaw) @ home_rot, rigid.rot_z(yaw + jnp.pi) @ home_rot
-  keep = (_twist_from_home(carry_turn @ first, home_rot)
-          <= _twist_from_home(carry_turn @ second, home_rot))
-  return point, jnp.where(keep, first, second)
+  rots = jnp.stack([rigid.rot_z(yaw) @ home_rot, rigid.rot_z(yaw + jnp.pi) @ home_rot])
+  return points[jnp.array([0, 0, 1, 1])], rots[jnp.array([0, 1, 0, 1])]
 
 
-def _mated_pose(plan_, part_pos, part_rot, m):
-  """The pose of part m on its mate nearest its present orientation: the design pose
-  turned about the connector's axis by the allowed twist that needs the least turning."""
+def _depth(rot, center, half):
+  """How far (m) a part's box reaches below its origin at rotation `rot`."""
+  return -jnp.min(_corners(jnp.zeros(3), rot, center, half)[:, 2])
+
+
+def _mated_poses(plan_, part_pos, part_rot, m):
+  """The poses of part m on its mate, one per allowed twist of the pair: positions (t, 3)
+  and rotations (t, 3, 3), the design pose turned about the connector's axis by each
+  twist (entries where plan_.twist_valid[m] is False are not allowed)."""
   t = plan_.mate[m]
   design_rot = part_rot[t] @ plan_.rel_rot[m]
   design_pos = part_pos[t] + rigid.apply(part_rot[t], plan_.rel_pos[m])
@@ -219,11 +239,79 @@ def _mated_pose(plan_, part_pos, part_rot, m):
   axis = plan_.conn_axis[m]
   turns = jax.vmap(lambda a: arm_control._axis_rot(axis, a))(plan_.twists[m])      # (t, 3, 3)
   rots = design_rot[None] @ turns
-  angle = jax.vmap(lambda r: jnp.linalg.norm(arm_control.rotation_vector(r @ part_rot[m].T)))(
-      rots)
-  best = jnp.argmin(jnp.where(plan_.twist_valid[m], angle, jnp.inf))
-  rot = rots[best]
-  return connector - rigid.apply(rot, plan_.conn_pos[m]), rot
+  return connector[None] - jnp.einsum("tij,j->ti", rots, plan_.conn_pos[m]), rots
+
+
+def _servo_end(env, q, pos, rot, iterations):
+  """Arm joints where repeated IK steps (the task-space controller's, IK_STEP rad at
+  most each) from joints q towards the tool pose (pos, rot) stop: the servo's path to a
+  target, which ends short where a joint meets its range."""
+  am = env.arm_model
+  low, high = rigid.real(am.ik_low), rigid.real(am.ik_high)
+  home = rigid.real(am.home_qpos[am.arm_qpos])
+
+  def step(x, _):
+    return arm_control.ik_step(env.chain, x, pos, rot, home, low, high, IK_STEP), None
+
+  return jax.lax.scan(step, q, None, length=iterations)[0]
+
+
+def _reach_cost(env, q, pos, rot):
+  """How badly joints q reach the tool pose (pos, rot): the position miss (m), the
+  rotation miss (rad, ROTATION_MISS_WEIGHT m each) and the joints' encroachment on
+  LIMIT_MARGIN (rad) from the IK's ranges (as experts/mating.reach_cost counts it)."""
+  am = env.arm_model
+  low, high = rigid.real(am.ik_low), rigid.real(am.ik_high)
+  tool_pos, tool_rot = arm_control.tool_pose(env.chain, q)
+  miss = (jnp.linalg.norm(tool_pos - pos)
+          + ROTATION_MISS_WEIGHT * jnp.linalg.norm(arm_control.rotation_vector(rot @ tool_rot.T)))
+  margin = jnp.minimum(q - low, high - q)
+  return miss + jnp.maximum(0.0, LIMIT_MARGIN - margin).sum()
+
+
+def choose(env, plan_, state):
+  """(grasp, twist) of one world: of the two grasps of the loose part and the pair's
+  allowed twists, the pair the arm reaches best. The servo's path is followed by IK from
+  the present joints to the hover above the grasp, and from there to the tool pose that
+  holds the part APPROACH above its mated pose at that twist (the grip the grasp
+  makes); reach_cost at both ends ranks them. A twist that turns the part upright on
+  the far side of the wrist's range ends short with the wrist at its limit, as the
+  carry did before the choice was made.
+
+  Args:
+    env: the BatchArmAssembly.
+    plan_: its Plan.
+    state: the world's arm_env.State.
+
+  Returns:
+    (grasp index (0 to 3, see _grasps), twist index), int32 scalars.
+  """
+  am = env.arm_model
+  m = loose_part(env, state)
+  part_pos, part_rot = task_state.part_poses(env.tables, state.data.qpos)
+  home_rot = rigid.real(am.home_tcp_rot)
+  points, grasp_rots = _grasps(plan_, home_rot, part_pos[m], part_rot[m], m)
+  goal_pos, goal_rots = _mated_poses(plan_, part_pos, part_rot, m)
+  hovers = points + jnp.array([0.0, 0.0, HOVER])
+  q = state.data.qpos[jnp.asarray(am.arm_qpos)]
+  q_hover = jax.vmap(lambda p, r: _servo_end(env, q, p, r, REACH_ITERATIONS))(hovers, grasp_rots)
+
+  def cost(g, k):
+    grip_pos = rigid.apply(part_rot[m].T, points[g] - part_pos[m])
+    grip_rot = part_rot[m].T @ grasp_rots[g]
+    tool_rot = goal_rots[k] @ grip_rot
+    tool_pos = goal_pos[k] + jnp.array([0.0, 0.0, APPROACH]) + rigid.apply(goal_rots[k],
+                                                                           grip_pos)
+    end = _servo_end(env, q_hover[g], tool_pos, tool_rot, CARRY_ITERATIONS)
+    return _reach_cost(env, end, tool_pos, tool_rot) + _reach_cost(env, q_hover[g], hovers[g],
+                                                                   grasp_rots[g])
+
+  grasps = jnp.arange(points.shape[0])
+  twists = jnp.arange(plan_.twists.shape[1])
+  costs = jax.vmap(lambda g: jax.vmap(lambda k: cost(g, k))(twists))(grasps)   # (2, t)
+  costs = jnp.where(plan_.twist_valid[m][None], costs, jnp.inf)
+  best = jnp.argmin(costs.ravel())
+  return (best // twists.shape[0]).astype(jnp.int32), (best % twists.shape[0]).astype(jnp.int32)
 
 
 def _toward(targets, pos, rot, max_translation, max_rotation, gain=1.0):
@@ -240,7 +328,8 @@ def act(env, plan_, expert, state):
   Args:
     env: the BatchArmAssembly (task_space control).
     plan_: its Plan.
-    expert: ExpertState of the world.
+    expert: ExpertState of the world, its grasp and twist chosen (choose; batched_policy
+      does both).
     state: the world's arm_env.State.
   """
   am = env.arm_model
@@ -250,13 +339,21 @@ def act(env, plan_, expert, state):
   part_pos, part_rot = task_state.part_poses(env.tables, qpos)
   tool_pos, tool_rot = env.tool_pose(qpos)
   home_rot = rigid.real(am.home_tcp_rot)
-  # The mated pose of m, then the grasp that suits the turn onto it.
-  goal_pos, goal_rot = _mated_pose(plan_, part_pos, part_rot, m)
-  grasp_pos, grasp_rot = _grasp(plan_, home_rot, part_pos[m], part_rot[m], m,
-                                goal_rot @ part_rot[m].T)
+  # The mated pose of m at the chosen twist, and the chosen grasp.
+  goal_pos, goal_rot = (x[expert.twist] for x in _mated_poses(plan_, part_pos, part_rot, m))
+  grasp_points, grasp_rots = _grasps(plan_, home_rot, part_pos[m], part_rot[m], m)
+  grasp_pos, grasp_rot = grasp_points[expert.grasp], grasp_rots[expert.grasp]
   hover = grasp_pos + jnp.array([0.0, 0.0, HOVER])
-  extent = jnp.linalg.norm(plan_.half[m])
-  carry_z = extent + CARRY_MARGIN + jnp.maximum(goal_pos[2], 0.0)
+  # The carry height keeps the part, however it is turned, CARRY_MARGIN clear of its
+  # mated pose's height and of the top of everything else (the legs already standing on
+  # the assembly: passing among them knocked the part out of the grip).
+  corners = jax.vmap(_corners)(part_pos, part_rot, plan_.center, plan_.half)   # (p, 8, 3)
+  others = jnp.arange(part_pos.shape[0]) != m
+  others_top = jnp.max(jnp.where(others, corners[:, :, 2].max(axis=1), 0.0))
+  depth = jnp.maximum(_depth(part_rot[m], plan_.center[m], plan_.half[m]),
+                      _depth(goal_rot, plan_.center[m], plan_.half[m]))
+  carry_z = CARRY_MARGIN + jnp.maximum(others_top + depth,
+                                       jnp.maximum(goal_pos[2], 0.0) + depth)
   above = goal_pos + jnp.array([0.0, 0.0, APPROACH])
   # The task-space target moved by the part's present pose error: the target integrates
   # the error, so the tool's tracking offset (gravity on the servos) and slip in the grip
@@ -288,6 +385,14 @@ def act(env, plan_, expert, state):
   rot_d = jnp.stack([w[1] for w in waypoints])[phase]
   gain = jnp.array([w[2] for w in waypoints])[phase]
   tool_action = _toward(targets, pos_d, rot_d, mt, mr, gain)
+  # A held part turns at CARRY_TURN of the top turning speed, half the CPU expert's
+  # carry turn (experts/arm_motion.CARRY_TURN): at full speed it swung out of the grip,
+  # and at the CPU's 0.3 more legs slipped (table, seed 2: 2 of 8 worlds completed
+  # against 5).
+  turn = tool_action[3:]
+  turn_limit = jnp.where(phase >= CARRY, CARRY_TURN, 1.0)
+  turn = turn * jnp.minimum(1.0, turn_limit / jnp.maximum(jnp.max(jnp.abs(turn)), 1e-9))
+  tool_action = tool_action.at[3:].set(turn)
   gripper = jnp.where(phase >= CLOSE, 1.0, -1.0)
   connect = jnp.where(phase == INSERT, 1.0, -1.0)
   # Phase changes.
@@ -300,19 +405,44 @@ def act(env, plan_, expert, state):
       at(grasp_pos, grasp_rot) | (steps > 40),
       steps >= CLOSE_STEPS,
       part_pos[m][2] > carry_z - 0.01,
-      (carry_err[0] < POS_TOL) & (carry_err[1] < ROT_TOL),
+      (carry_err[0] < CARRY_GATE[0]) & (carry_err[1] < CARRY_GATE[1]),
       jnp.bool_(False),
   ])[phase]
   next_phase = jnp.where(advance, jnp.minimum(phase + 1, INSERT), phase)
+  # A part that is not in the hand after the fingers closed (they missed it, or it fell
+  # out on the way) is taken again from where it lies, the grasp and twist chosen anew.
+  lost = (phase >= LIFT) & (jnp.linalg.norm(part_pos[m] - tool_pos)
+                            > jnp.linalg.norm(expert.grip_pos) + LOST)
+  advance = advance | lost
+  next_phase = jnp.where(lost, REACH, next_phase)
   grip_pos = rigid.apply(tool_rot.T, part_pos[m] - tool_pos)
   grip_rot = tool_rot.T @ part_rot[m]
   closing_done = (phase == CLOSE) & advance
-  expert = ExpertState(
-      phase=next_phase, steps=jnp.where(advance, 0, steps + 1),
+  expert = expert._replace(
+      phase=next_phase, steps=jnp.where(advance, 0, steps + 1), chosen=expert.chosen & ~lost,
       grip_pos=jnp.where(closing_done, grip_pos, expert.grip_pos),
       grip_rot=jnp.where(closing_done, grip_rot, expert.grip_rot))
   action = jnp.concatenate([tool_action, gripper[None], connect[None]])
   return action, expert
+
+
+def batched_policy(env, plan_):
+  """The expert over a batch of worlds: a function (ExpertState, arm_env.State), both with
+  a leading world axis, -> (actions (worlds, action size), next ExpertState). Worlds
+  that have not chosen their grasp and twist yet (a new episode) choose them first; the
+  choice runs only in steps where some world needs it."""
+
+  def pick(expert, state):
+    grasp, twist = jax.vmap(lambda s: choose(env, plan_, s))(state)
+    keep = expert.chosen
+    return expert._replace(chosen=jnp.ones_like(keep), grasp=jnp.where(keep, expert.grasp, grasp),
+                           twist=jnp.where(keep, expert.twist, twist))
+
+  def policy(expert, state):
+    expert = jax.lax.cond(jnp.all(expert.chosen), lambda e, s: e, pick, expert, state)
+    return jax.vmap(lambda e, s: act(env, plan_, e, s))(expert, state)
+
+  return policy
 
 
 def rollout(env, num_worlds, steps, seed=0, host_physics=False):
@@ -325,12 +455,8 @@ def rollout(env, num_worlds, steps, seed=0, host_physics=False):
     it did not), phase reached (worlds,) int).
   """
   plan_ = plan(env)
-
-  def policy(expert, state):
-    return jax.vmap(lambda e, s: act(env, plan_, e, s))(expert, state)
-
   with env.precision():
-    policy = jax.jit(policy)
+    policy = jax.jit(batched_policy(env, plan_))
     state = env.reset_batch(jax.random.PRNGKey(seed), num_worlds)
     expert = jax.vmap(lambda _: initial_state())(jnp.arange(num_worlds))
   done_at = np.zeros(num_worlds, dtype=int)
