@@ -44,6 +44,7 @@ from ikea_suite.batch import arm_model
 from ikea_suite.batch import backend
 from ikea_suite.batch import connect as connect_lib
 from ikea_suite.batch import contact_buffers
+from ikea_suite.batch import env as env_lib
 from ikea_suite.batch import observe
 from ikea_suite.batch import rigid
 from ikea_suite.batch import tables as tables_lib
@@ -52,9 +53,8 @@ from ikea_suite.robots import control_modes
 from ikea_suite.tasks import alignment
 
 ROBOTS = ("panda",)
-CONNECT_ACTION = "connect"
+CONNECT_ACTION = env_lib.CONNECT_ACTION
 MODES = (control_modes.TASK_SPACE, control_modes.JOINT_POSITION)
-DIVERGED_SPEED = 1e3   # as env.py
 # Warp buffer sizing (buffer_sizing): recorded starts settled, and the most contacts two
 # finger pads make on a held part (MuJoCo's box-box collider writes up to 8 per pair).
 SIZING_LAYOUTS = 8
@@ -366,7 +366,7 @@ class BatchArmAssembly:
     task = task._replace(steps=task.steps + 1)
     complete = task_state.complete(task)
     diverged = ~(jnp.isfinite(data.qpos).all() & jnp.isfinite(data.qvel).all()
-                 & (jnp.abs(data.qvel).max() < DIVERGED_SPEED))
+                 & (jnp.abs(data.qvel).max() < env_lib.DIVERGED_SPEED))
     reward = rigid.real(jnp.where(
         diverged, 0.0,
         connected * s.connection_reward + (connected & complete) * s.completion_bonus))
