@@ -49,6 +49,7 @@ from ikea_suite.batch import observe
 from ikea_suite.batch import rigid
 from ikea_suite.batch import tables as tables_lib
 from ikea_suite.batch import task_state
+from ikea_suite.batch import worlds
 from ikea_suite.robots import control_modes
 from ikea_suite.tasks import alignment
 
@@ -110,7 +111,7 @@ def check_options(robot, options):
     raise errors.OptionValueError(f"layouts must be an integer >= 1, got {layouts!r}")
 
 
-class BatchArmAssembly:
+class BatchArmAssembly(worlds.BatchWorlds):
   """The assembly task of one furniture for a single arm, stepped in many worlds by MJX.
 
   Args:
@@ -125,9 +126,7 @@ class BatchArmAssembly:
   def __init__(self, furniture, robot="panda", impl=None, num_worlds=None, buffer_sizes=None,
                layouts=arm_model.DEFAULT_LAYOUTS, **options):
     check_options(robot, dict(options, layouts=layouts))
-    self._impl = backend.check_impl(impl)
-    self._num_worlds = num_worlds
-    self._buffer_sizes = buffer_sizes
+    super().__init__(impl, num_worlds, buffer_sizes)
     self._robot = robot
     self._arm = am = arm_model.build(furniture, robot, layouts=layouts,
                                      light=self._impl == "jax", **options)
@@ -137,16 +136,14 @@ class BatchArmAssembly:
         substeps=config.substeps, max_steps=config.max_steps,
         connection_reward=config.connection_reward, completion_bonus=config.completion_bonus,
         control_mode=am.robot_config.control_mode)
+    self._batch_model = am.base
     with self.precision():
-      self._build(num_worlds)
+      self._build()
 
-  def _build(self, num_worlds):
+  def _build(self):
     am = self._arm
     bm = am.base
     self._tables = tables_lib.build(bm)
-    sizing = self.buffer_sizing if self._impl == "warp" else None   # JAX: no fixed buffers
-    self._mx, self._data0 = backend.put(bm.model, self._impl, sizing, num_worlds=num_worlds)
-    self.overflow_watch = contact_buffers.OverflowWatch(sizing, num_worlds)
     f = lambda x: rigid.real(np.asarray(x))
     i = lambda x: jnp.asarray(np.asarray(x), dtype=jnp.int32)
     self._chain = arm_control.chain(bm.model, am.tcp_site, am.arm_qpos)
@@ -162,18 +159,7 @@ class BatchArmAssembly:
     self._layouts = dict(part_qpos=f(lay.part_qpos), group=i(lay.group),
                          used=jnp.asarray(lay.connector_used), adjacency=jnp.asarray(lay.adjacency),
                          eq_active=jnp.asarray(lay.eq_active))
-    self._reset_batch = jax.jit(jax.vmap(self.reset))
-    self._step_batch = jax.jit(jax.vmap(self.step))
-
-  def precision(self):
-    """float64 for MJX's JAX implementation, float32 for Warp (see BatchAssembly.precision)."""
-    return jax.enable_x64(self._impl == "jax")
-
-  # -- description ---------------------------------------------------------------
-
-  @property
-  def impl(self):
-    return self._impl
+    self._put(bm.model)
 
   @property
   def robot(self):
@@ -185,29 +171,9 @@ class BatchArmAssembly:
     return self._arm
 
   @property
-  def batch_model(self):
-    return self._arm.base
-
-  @property
-  def tables(self):
-    return self._tables
-
-  @property
-  def settings(self):
-    return self._settings
-
-  @property
-  def mjx_model(self):
-    return self._mx
-
-  @property
   def chain(self):
     """The arm's arm_control.Chain (forward kinematics of the tool)."""
     return self._chain
-
-  @property
-  def num_parts(self):
-    return self._arm.num_parts
 
   @property
   def control_mode(self):
@@ -255,8 +221,9 @@ class BatchArmAssembly:
     plus room for the gripper: two finger pads holding a part, each a box on the part's
     geoms, give up to GRIP_CONTACTS contacts at the model's worst rows per contact.
     """
-    if self._buffer_sizes is not None:
-      return contact_buffers.given(self._buffer_sizes)
+    given = self._given_sizing()
+    if given is not None:
+      return given
     am = self._arm
     bm, lay = am.base, am.layouts
     measured = contact_buffers.part_faces(bm)
@@ -385,54 +352,6 @@ class BatchArmAssembly:
               "truncation": timeout & ~complete & ~diverged, "diverged": diverged,
               "final_obs": obs, "contact_overflow": jnp.int32(0),
               "buffer_peak": jnp.zeros(2, dtype=jnp.int32)})
-
-  # -- many worlds -----------------------------------------------------------------
-
-  @functools.cached_property
-  def _restart_batch(self):
-    def restart(keep, fresh, stepped):
-      pick = lambda a, b: jax.tree.map(lambda x, y: jnp.where(keep, x, y), a, b)
-      shown = fresh._replace(
-          reward=jnp.zeros_like(fresh.reward), done=jnp.bool_(False),
-          metrics={"connections": jnp.int32(0), "success": jnp.bool_(False)},
-          info={"rng": fresh.info["rng"], "truncation": jnp.bool_(False),
-                "diverged": jnp.bool_(False), "final_obs": fresh.obs,
-                "contact_overflow": stepped.info["contact_overflow"],
-                "buffer_peak": stepped.info["buffer_peak"]})
-      return State(data=fresh.data.where(keep, stepped.data),
-                   **{f: pick(getattr(shown, f), getattr(stepped, f))
-                      for f in State._fields if f != "data"})
-    return jax.jit(jax.vmap(restart))
-
-  def restart_batch(self, keep, fresh, stepped):
-    """As BatchAssembly.restart_batch: per world, `fresh` where `keep`, else `stepped`."""
-    with self.precision():
-      return self._restart_batch(jnp.asarray(keep), fresh, stepped)
-
-  def reset_batch(self, rng, num_worlds):
-    """`num_worlds` fresh worlds, each with its own key split from `rng` (jitted)."""
-    if not isinstance(num_worlds, (int, np.integer)) or num_worlds < 1:
-      raise errors.OptionValueError(f"num_worlds must be an integer >= 1, got {num_worlds!r}")
-    if self._impl == "warp" and (self._num_worlds is None or num_worlds > self._num_worlds):
-      raise errors.OptionValueError(
-          f"the Warp implementation sizes its contact buffer for all worlds: load with "
-          f"num_worlds >= {num_worlds} (got num_worlds={self._num_worlds})")
-    with self.precision():
-      return self._reset_batch(jax.random.split(rng, num_worlds))
-
-  def _check_actions(self, state, actions):
-    expected = (state.reward.shape[0], self.action_size)
-    if tuple(np.shape(actions)) != expected:
-      raise errors.ActionError(f"actions must have shape {expected}, got {np.shape(actions)}")
-
-  def step_batch(self, state, actions):
-    """One step of every world: actions (worlds, action_size); raises ActionError for
-    another shape."""
-    self._check_actions(state, actions)
-    with self.precision():
-      state = self._step_batch(state, actions)
-    self.overflow_watch.watch(state.info["contact_overflow"], state.info["buffer_peak"])
-    return state
 
   @functools.cached_property
   def _host_parts(self):

@@ -36,7 +36,6 @@ Differences from the CPU environment's compiled model, and why:
 
 import dataclasses
 
-import mujoco
 import numpy as np
 from dm_control import mjcf
 
@@ -284,7 +283,6 @@ def build(furniture, robot="panda", layouts=DEFAULT_LAYOUTS, light=False, **opti
   visual = (np.asarray(bound.contype) == 0) & (np.asarray(bound.conaffinity) == 0)
   kept = [g for g, v in zip(geoms, visual) if not v]
   kept_values = {f: np.array(getattr(physics.bind(kept), f)) for f in _GEOM_FIELDS}
-  actuators = root.find_all("actuator")
   act_values = {f: np.array(getattr(old_model, f"actuator_{f}")) for f in _ACTUATOR_FIELDS}
   for geom, is_visual in zip(geoms, visual):
     if is_visual:

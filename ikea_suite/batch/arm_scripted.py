@@ -366,7 +366,6 @@ def act(env, plan_, expert, state):
   mt, mr = am.max_translation, am.max_rotation
   phase, steps = expert.phase, expert.steps
   lift_pos = jnp.concatenate([tool_pos[:2], carry_z[None] + (tool_pos[2] - part_pos[m][2])])
-  above_tool = tool_for(above, goal_rot)
   goal_tool = tool_for(goal_pos, goal_rot)
   # Carry at the carry height until over the mate, then down to `above`.
   horizontal = jnp.linalg.norm((part_pos[m] - above)[:2])

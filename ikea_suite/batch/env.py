@@ -23,9 +23,7 @@ import typing
 
 import jax
 import jax.numpy as jnp
-import numpy as np
 
-from ikea_suite import errors
 from ikea_suite.batch import backend
 from ikea_suite.batch import connect as connect_lib
 from ikea_suite.batch import contact_buffers
@@ -37,6 +35,7 @@ from ikea_suite.batch import rigid
 from ikea_suite.batch import settings as settings_lib
 from ikea_suite.batch import tables as tables_lib
 from ikea_suite.batch import task_state
+from ikea_suite.batch import worlds
 from ikea_suite.robots import cursor as cpu_cursor
 
 CONNECT_ACTION = "connect"
@@ -69,7 +68,7 @@ class State(typing.NamedTuple):
   info: dict
 
 
-class BatchAssembly:
+class BatchAssembly(worlds.BatchWorlds):
   """The assembly task of one furniture for the Cursor agent, stepped in many worlds by MJX.
 
   Args:
@@ -83,70 +82,25 @@ class BatchAssembly:
   """
 
   def __init__(self, furniture, impl=None, num_worlds=None, buffer_sizes=None, **options):
-    self._impl = backend.check_impl(impl)
-    self._num_worlds = num_worlds
-    self._buffer_sizes = buffer_sizes
+    super().__init__(impl, num_worlds, buffer_sizes)
     self._batch_model = model_lib.build(furniture)
     with self.precision():
-      self._build(num_worlds, options)
+      self._build(options)
 
-  def _build(self, num_worlds, options):
+  def _build(self, options):
     bm = self._batch_model
     self._settings = settings_lib.resolve(bm.num_parts, **options)
     self._tables = tables_lib.build(bm)
     self._scatter = placement.scatter(bm.spec, spread=self._settings.spread,
                                       yaw_range=self._settings.yaw_range)
-    sizing = self.buffer_sizing if self._impl == "warp" else None   # JAX: no fixed buffers
-    self._mx, self._data0 = backend.put(bm.model, self._impl, sizing, num_worlds=num_worlds)
-    self.overflow_watch = contact_buffers.OverflowWatch(sizing, num_worlds)
     self._home = rigid.real(cpu_cursor.HOME_POSITIONS)
-    self._reset_batch = jax.jit(jax.vmap(self.reset))
-    self._step_batch = jax.jit(jax.vmap(self.step))
-
-  def precision(self):
-    """Context in which this environment's functions must be traced and called: float64 for
-    MJX's JAX implementation, float32 (jax's default) for Warp.
-
-    MJX's JAX solver with elliptic cones (physics_settings) is unstable in float32 on these
-    contacts: a table's legs lying on the floor reached 52 m/s, then NaN, within 0.4 s, where
-    MuJoCo (float64) and the same MJX code in float64 hold them still (< 1e-6 m/s).
-    `reset_batch` and `step_batch` enter it themselves; wrap your own jit of `reset`/`step`.
-    """
-    return jax.enable_x64(self._impl == "jax")
-
-  # -- description ---------------------------------------------------------------
+    self._put(bm.model)
 
   @functools.cached_property
   def buffer_sizing(self):
     """contact_buffers.Sizing of Warp's contact and constraint buffers for this model."""
-    if self._buffer_sizes is not None:
-      return contact_buffers.given(self._buffer_sizes)
-    return contact_buffers.sizing(self._batch_model, cpu_cursor.NUM_CURSORS)
-
-  @property
-  def impl(self):
-    """The MJX implementation in use, "warp" or "jax"."""
-    return self._impl
-
-  @property
-  def batch_model(self):
-    return self._batch_model
-
-  @property
-  def tables(self):
-    return self._tables
-
-  @property
-  def settings(self):
-    return self._settings
-
-  @property
-  def mjx_model(self):
-    return self._mx
-
-  @property
-  def num_parts(self):
-    return self._batch_model.num_parts
+    return self._given_sizing() or contact_buffers.sizing(self._batch_model,
+                                                          cpu_cursor.NUM_CURSORS)
 
   @property
   def action_names(self):
@@ -252,55 +206,6 @@ class BatchAssembly:
         info={"rng": jnp.where(done, fresh.info["rng"], state.info["rng"]),
               "truncation": timeout & ~complete & ~diverged, "diverged": diverged,
               "final_obs": obs, "contact_overflow": overflow, "buffer_peak": peak})
-
-  # -- many worlds -----------------------------------------------------------------
-
-  @functools.cached_property
-  def _restart_batch(self):
-    def restart(keep, fresh, stepped):
-      pick = lambda a, b: jax.tree.map(lambda x, y: jnp.where(keep, x, y), a, b)
-      shown = State(
-          data=fresh.data, task=fresh.task, obs=fresh.obs, reward=jnp.zeros_like(fresh.reward),
-          done=jnp.bool_(False),
-          metrics={"connections": jnp.int32(0), "success": jnp.bool_(False)},
-          info={"rng": fresh.info["rng"], "truncation": jnp.bool_(False),
-                "diverged": jnp.bool_(False), "final_obs": fresh.obs,
-                "contact_overflow": stepped.info["contact_overflow"],
-                "buffer_peak": stepped.info["buffer_peak"]})
-      return State(data=fresh.data.where(keep, stepped.data),
-                   **{f: pick(getattr(shown, f), getattr(stepped, f))
-                      for f in State._fields if f != "data"})
-    return jax.jit(jax.vmap(restart))
-
-  def restart_batch(self, keep, fresh, stepped):
-    """Per world, the episode start `fresh` where `keep` (worlds,) is true (reward 0, not
-    done, nothing connected), else `stepped` (jitted): a vector env's next-step autoreset
-    shows the worlds that ended last step at the start their step then reset them to."""
-    with self.precision():
-      return self._restart_batch(jnp.asarray(keep), fresh, stepped)
-
-  def reset_batch(self, rng, num_worlds):
-    """`num_worlds` fresh worlds, each with its own key split from `rng` (jitted)."""
-    if not isinstance(num_worlds, (int, np.integer)) or num_worlds < 1:
-      raise errors.OptionValueError(f"num_worlds must be an integer >= 1, got {num_worlds!r}")
-    if self._impl == "warp" and (self._num_worlds is None or num_worlds > self._num_worlds):
-      raise errors.OptionValueError(
-          f"the Warp implementation sizes its contact buffer for all worlds: load with "
-          f"num_worlds >= {num_worlds} (got num_worlds={self._num_worlds})")
-    with self.precision():
-      return self._reset_batch(jax.random.split(rng, num_worlds))
-
-  def step_batch(self, state, actions):
-    """One step of every world: actions (worlds, 15) (jitted, vmapped `step`); raises
-    ActionError for another shape. `overflow_watch` reads the step's buffer overflows (while
-    the next step runs) and warns naming the buffer."""
-    expected = (state.reward.shape[0], self.action_size)
-    if tuple(np.shape(actions)) != expected:
-      raise errors.ActionError(f"actions must have shape {expected}, got {np.shape(actions)}")
-    with self.precision():
-      state = self._step_batch(state, actions)
-    self.overflow_watch.watch(state.info["contact_overflow"], state.info["buffer_peak"])
-    return state
 
 
 @functools.lru_cache(maxsize=8)
