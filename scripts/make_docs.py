@@ -354,6 +354,33 @@ def randomization_factors() -> str:
                         rows)
 
 
+# Models whose Warp buffer sizing docs/batch.md shows: one per kind of collision geometry
+# (boxes, round geoms of condim 6, mesh slats) and the largest part counts.
+BUFFER_MODELS = ("table_four_leg_lack", "chair_back_ivar", "stool_step_tall_oak",
+                 "chair_back_dark_bar", "bench_slatted_oak", "bookcase_shelf_unit_billy",
+                 "bookcase_shelf_unit_w80_h106_birch", "dresser_chest_three_white_oak",
+                 "bed_slatted_kids_birch_open")
+
+
+def contact_buffers() -> str:
+  """The Cursor env's Warp buffer sizing of some models (docs/batch.md): the face bound
+  contact_buffers.part_faces measures and the sizes contact_buffers.sizing derives."""
+  from ikea_suite.batch import contact_buffers as buffers
+  from ikea_suite.batch import model as batch_model
+  from ikea_suite.robots import cursor
+  rows = []
+  for name in BUFFER_MODELS:
+    bm = batch_model.build(name)
+    sizing = buffers.sizing(bm, cursor.NUM_CURSORS)
+    worst = sizing.measured
+    rows.append([f"`{name}`", bm.num_parts, len(bm.geom_part),
+                 f"{worst.contacts} / {worst.candidates} / {worst.contact_rows}",
+                 sizing.nconmax, sizing.njmax])
+  return markdown_table(["furniture", "parts", "collision geoms",
+                         "worst: contacts / candidates / rows", "nconmax", "njmax"], rows,
+                        "lrrrrr")
+
+
 # name -> (the function, the pages its block lives in). Order: how --list prints them.
 TABLES = {
     "catalog": (catalog_models, ("docs/catalog.md",)),
@@ -367,6 +394,7 @@ TABLES = {
     "physics-settings": (physics_settings, ("docs/physics.md",)),
     "constructions": (constructions, ("docs/physics.md",)),
     "randomization-factors": (randomization_factors, ("docs/randomization.md",)),
+    "contact-buffers": (contact_buffers, ("docs/batch.md",)),
 }
 
 
