@@ -268,18 +268,23 @@ def _heights(plan_, part_pos, part_rot, m, goal_pos, goal_rot):
   return others_top, carry_z
 
 
-def _servo_end(env, q, pos, rot, iterations):
+def _servo_path(env, q, pos, rot, iterations):
   """Arm joints where repeated IK steps (the task-space controller's, IK_STEP rad at
-  most each) from joints q towards the tool pose (pos, rot) stop: the servo's path to a
-  target, which ends short where a joint meets its range."""
+  most each) from joints q towards tool poses pos (n, 3), rot (n, 3, 3) in turn,
+  iterations[i] (Python ints) of them towards pose i, stop at the end of each leg
+  (n, joints): the servo's path through those targets, which ends short where a joint
+  meets its range. (One scan over all the legs, so that it compiles once.)"""
   am = env.arm_model
   low, high = rigid.real(am.ik_low), rigid.real(am.ik_high)
   home = rigid.real(am.home_qpos[am.arm_qpos])
+  leg = jnp.asarray(np.repeat(np.arange(len(iterations)), iterations))
 
-  def step(x, _):
-    return arm_control.ik_step(env.chain, x, pos, rot, home, low, high, IK_STEP), None
+  def step(x, i):
+    x = arm_control.ik_step(env.chain, x, pos[i], rot[i], home, low, high, IK_STEP)
+    return x, x
 
-  return jax.lax.scan(step, q, None, length=iterations)[0]
+  path = jax.lax.scan(step, q, leg)[1]
+  return path[jnp.asarray(np.cumsum(iterations) - 1)]
 
 
 def _reach_cost(env, q, pos, rot):
@@ -321,7 +326,6 @@ def choose(env, plan_, state):
   goal_pos, goal_rots = _mated_poses(plan_, part_pos, part_rot, m)
   hovers = points + jnp.array([0.0, 0.0, HOVER])
   q = state.data.qpos[jnp.asarray(am.arm_qpos)]
-  q_hover = jax.vmap(lambda p, r: _servo_end(env, q, p, r, REACH_ITERATIONS))(hovers, grasp_rots)
 
   def cost(g, k):
     grip_pos = rigid.apply(part_rot[m].T, points[g] - part_pos[m])
@@ -332,15 +336,15 @@ def choose(env, plan_, state):
     _, carry_z = _heights(plan_, part_pos, part_rot, m, goal_pos[k], goal_rots[k])
     lift = points[g].at[2].add(carry_z - part_pos[m][2])
     high = tool_pos.at[2].add(jnp.maximum(carry_z - above[2], 0.0))
-    q_lift = _servo_end(env, q_hover[g], lift, grasp_rots[g], LIFT_ITERATIONS)
-    q_high = _servo_end(env, q_lift, high, tool_rot, CARRY_ITERATIONS)
-    end = _servo_end(env, q_high, tool_pos, tool_rot, LIFT_ITERATIONS)
-    return (_reach_cost(env, end, tool_pos, tool_rot) + _reach_cost(env, q_high, high, tool_rot)
-            + _reach_cost(env, q_hover[g], hovers[g], grasp_rots[g]))
+    pos = jnp.stack([hovers[g], lift, high, tool_pos])
+    rot = jnp.stack([grasp_rots[g], grasp_rots[g], tool_rot, tool_rot])
+    ends = _servo_path(env, q, pos, rot, (REACH_ITERATIONS, LIFT_ITERATIONS, CARRY_ITERATIONS,
+                                          LIFT_ITERATIONS))
+    return sum(_reach_cost(env, ends[i], pos[i], rot[i]) for i in (0, 2, 3))
 
   grasps = jnp.arange(points.shape[0])
   twists = jnp.arange(plan_.twists.shape[1])
-  costs = jax.vmap(lambda g: jax.vmap(lambda k: cost(g, k))(twists))(grasps)   # (2, t)
+  costs = jax.vmap(lambda g: jax.vmap(lambda k: cost(g, k))(twists))(grasps)   # (4, t)
   costs = jnp.where(plan_.twist_valid[m][None], costs, jnp.inf)
   best = jnp.argmin(costs.ravel())
   return (best // twists.shape[0]).astype(jnp.int32), (best % twists.shape[0]).astype(jnp.int32)
