@@ -6,19 +6,22 @@ expert takes the loose part from above, lifts it, turns and carries it so that i
 stands over its place on the assembly, lowers it in and connects. The CPU expert
 (experts/single_arm.py with top_down_grasp.py and mating.py) does the same one part at
 a time with more cases (clearance routes, regrasps, turning the assembly over); this
-one covers parts that a top-down grasp can carry to their mate in one motion, the
-legs of the catalog's tables, stools and benches.
+one covers single parts that a top-down grasp across their long axis can carry to their
+mate in one motion: the legs of the catalog's tables and stools. (A bench's seat and end
+panels are wider than the Panda's opening, and its design's connections form a cycle, so
+that a start may leave two groups of two parts: see docs/batch.md.)
 
 Per world it reads the privileged state (part poses, the task-space target, the tool
 pose) and keeps a small ExpertState (phase, step counter, the part's pose in the tool
 frame measured when the fingers closed). Phases:
 
   REACH    open hand HOVER above the grasp point, pointing down, fingers across the
-           part's long axis
+           part's long axis (over everything else until it is nearly above it)
   DESCEND  down to the grasp point (fingertips just above the part's underside)
   CLOSE    squeeze for CLOSE_STEPS
   LIFT     straight up to the carry height
-  CARRY    move and turn so the part's pose is its mated pose raised by APPROACH
+  CARRY    move and turn at the carry height until the part is over its mate
+  LOWER    down to the part's mated pose raised by APPROACH
   INSERT   lower it onto the mate with connect on; the task snaps and welds it
 
 A part that leaves the hand after CLOSE (missed, or dropped on the way) sends the world
@@ -31,7 +34,9 @@ the grasp, joints clear of their ranges, as the CPU expert's choose_grasp_sign a
 plan_mating rank theirs (experts/mating.py).
 
 While carrying, the tool's command is the part's pose error applied to the tool (as
-batch/scripted.py steers the Cursor's part), so slip in the grip is corrected too.
+batch/scripted.py steers the Cursor's part), so slip in the grip is corrected too; the
+target it moves is kept within LEAD of the measured tool, so the servos' lag does not
+wind it up.
 """
 
 import typing
@@ -46,8 +51,8 @@ from ikea_suite.batch import rigid
 from ikea_suite.batch import task_state
 from ikea_suite.tasks import placement as cpu_placement
 
-REACH, DESCEND, CLOSE, LIFT, CARRY, INSERT = range(6)
-PHASES = ("reach", "descend", "close", "lift", "carry", "insert")
+REACH, DESCEND, CLOSE, LIFT, CARRY, LOWER, INSERT = range(7)
+PHASES = ("reach", "descend", "close", "lift", "carry", "lower", "insert")
 HOVER = 0.06          # m above the grasp point the reach makes for
 TIP_CLEARANCE = 0.004  # m between the fingertips and the part's underside (or the floor)
 CLOSE_STEPS = 10      # control steps the fingers squeeze before lifting (0.5 s)
@@ -59,16 +64,23 @@ POS_TOL, ROT_TOL = 0.006, 0.06   # m, rad: a waypoint is reached
 # correcting its pose); held to POS_TOL, ROT_TOL the servo hunted round the last
 # centimetre long enough for the part to slip out of the grip.
 CARRY_GATE = (0.02, 0.1)
+# m, rad: the carried part is over its mate (horizontally) and turned nearly as it
+# mates, and goes down.
+OVER_MATE = (0.02, 0.3)
+LEAD = 0.03           # m the target may lead the measured tool while carrying (see act)
+REACH_NEAR = 0.05     # m (horizontal) from the hover within which the open hand goes down
 LOST = 0.05           # m the part may move from where the closed fingers held it
 CARRY_GAIN = 0.5      # fraction of the part's pose error the target takes per step
 DESCEND_GAIN = 0.4    # fraction of a full step the open hand goes down by
 CARRY_TURN = 0.15     # fraction of the top turning speed a held part turns at (see act)
 # The choice of grasp and twist (choose): IK steps of at most IK_STEP rad follow the
-# servo's path, REACH_ITERATIONS of them to the hover and CARRY_ITERATIONS on to the
-# mate; a rotation miss of 1 rad costs as much as ROTATION_MISS_WEIGHT m of position
-# miss, and a joint closer than LIMIT_MARGIN rad to its range costs the shortfall.
+# servo's path, REACH_ITERATIONS of them to the hover, LIFT_ITERATIONS up to the carry
+# height, CARRY_ITERATIONS at that height to the point over the mate and LIFT_ITERATIONS
+# down to the approach; a rotation miss of 1 rad costs as much as ROTATION_MISS_WEIGHT m
+# of position miss, and a joint closer than LIMIT_MARGIN rad to its range costs the
+# shortfall.
 IK_STEP = 0.1
-REACH_ITERATIONS, CARRY_ITERATIONS = 40, 60
+REACH_ITERATIONS, LIFT_ITERATIONS, CARRY_ITERATIONS = 40, 20, 60
 ROTATION_MISS_WEIGHT = 0.1
 LIMIT_MARGIN = 0.3
 
@@ -242,18 +254,37 @@ def _mated_poses(plan_, part_pos, part_rot, m):
   return connector[None] - jnp.einsum("tij,j->ti", rots, plan_.conn_pos[m]), rots
 
 
-def _servo_end(env, q, pos, rot, iterations):
+def _heights(plan_, part_pos, part_rot, m, goal_pos, goal_rot):
+  """(top of every part but m, carry height of m's origin) (m): the carry height keeps
+  part m, however it is turned, CARRY_MARGIN clear of its mated pose's height and of the
+  top of everything else (the legs already standing on the assembly: passing among them
+  knocked the part out of the grip)."""
+  corners = jax.vmap(_corners)(part_pos, part_rot, plan_.center, plan_.half)   # (p, 8, 3)
+  others = jnp.arange(part_pos.shape[0]) != m
+  others_top = jnp.max(jnp.where(others, corners[:, :, 2].max(axis=1), 0.0))
+  depth = jnp.maximum(_depth(part_rot[m], plan_.center[m], plan_.half[m]),
+                      _depth(goal_rot, plan_.center[m], plan_.half[m]))
+  carry_z = CARRY_MARGIN + jnp.maximum(others_top + depth, jnp.maximum(goal_pos[2], 0.0) + depth)
+  return others_top, carry_z
+
+
+def _servo_path(env, q, pos, rot, iterations):
   """Arm joints where repeated IK steps (the task-space controller's, IK_STEP rad at
-  most each) from joints q towards the tool pose (pos, rot) stop: the servo's path to a
-  target, which ends short where a joint meets its range."""
+  most each) from joints q towards tool poses pos (n, 3), rot (n, 3, 3) in turn,
+  iterations[i] (Python ints) of them towards pose i, stop at the end of each leg
+  (n, joints): the servo's path through those targets, which ends short where a joint
+  meets its range. (One scan over all the legs, so that it compiles once.)"""
   am = env.arm_model
   low, high = rigid.real(am.ik_low), rigid.real(am.ik_high)
   home = rigid.real(am.home_qpos[am.arm_qpos])
+  leg = jnp.asarray(np.repeat(np.arange(len(iterations)), iterations))
 
-  def step(x, _):
-    return arm_control.ik_step(env.chain, x, pos, rot, home, low, high, IK_STEP), None
+  def step(x, i):
+    x = arm_control.ik_step(env.chain, x, pos[i], rot[i], home, low, high, IK_STEP)
+    return x, x
 
-  return jax.lax.scan(step, q, None, length=iterations)[0]
+  path = jax.lax.scan(step, q, leg)[1]
+  return path[jnp.asarray(np.cumsum(iterations) - 1)]
 
 
 def _reach_cost(env, q, pos, rot):
@@ -270,13 +301,14 @@ def _reach_cost(env, q, pos, rot):
 
 
 def choose(env, plan_, state):
-  """(grasp, twist) of one world: of the two grasps of the loose part and the pair's
-  allowed twists, the pair the arm reaches best. The servo's path is followed by IK from
-  the present joints to the hover above the grasp, and from there to the tool pose that
-  holds the part APPROACH above its mated pose at that twist (the grip the grasp
-  makes); reach_cost at both ends ranks them. A twist that turns the part upright on
-  the far side of the wrist's range ends short with the wrist at its limit, as the
-  carry did before the choice was made.
+  """(grasp, twist) of one world: of the four grasps of the loose part and the pair's
+  allowed twists, the pair the arm reaches best. The servo's path is followed by IK as
+  act's phases go: from the present joints to the hover above the grasp, up to the carry
+  height, over to the point above the mate turned to that twist, and down to the tool
+  pose that holds the part APPROACH above its mated pose (the grip the grasp makes);
+  reach_cost at the hover, over the mate and at the approach ranks them. A twist that
+  turns the part upright on the far side of the wrist's range ends short with the wrist
+  at its limit, as the carry did before the choice was made.
 
   Args:
     env: the BatchArmAssembly.
@@ -294,21 +326,25 @@ def choose(env, plan_, state):
   goal_pos, goal_rots = _mated_poses(plan_, part_pos, part_rot, m)
   hovers = points + jnp.array([0.0, 0.0, HOVER])
   q = state.data.qpos[jnp.asarray(am.arm_qpos)]
-  q_hover = jax.vmap(lambda p, r: _servo_end(env, q, p, r, REACH_ITERATIONS))(hovers, grasp_rots)
 
   def cost(g, k):
     grip_pos = rigid.apply(part_rot[m].T, points[g] - part_pos[m])
     grip_rot = part_rot[m].T @ grasp_rots[g]
     tool_rot = goal_rots[k] @ grip_rot
-    tool_pos = goal_pos[k] + jnp.array([0.0, 0.0, APPROACH]) + rigid.apply(goal_rots[k],
-                                                                           grip_pos)
-    end = _servo_end(env, q_hover[g], tool_pos, tool_rot, CARRY_ITERATIONS)
-    return _reach_cost(env, end, tool_pos, tool_rot) + _reach_cost(env, q_hover[g], hovers[g],
-                                                                   grasp_rots[g])
+    above = goal_pos[k] + jnp.array([0.0, 0.0, APPROACH])
+    tool_pos = above + rigid.apply(goal_rots[k], grip_pos)
+    _, carry_z = _heights(plan_, part_pos, part_rot, m, goal_pos[k], goal_rots[k])
+    lift = points[g].at[2].add(carry_z - part_pos[m][2])
+    high = tool_pos.at[2].add(jnp.maximum(carry_z - above[2], 0.0))
+    pos = jnp.stack([hovers[g], lift, high, tool_pos])
+    rot = jnp.stack([grasp_rots[g], grasp_rots[g], tool_rot, tool_rot])
+    ends = _servo_path(env, q, pos, rot, (REACH_ITERATIONS, LIFT_ITERATIONS, CARRY_ITERATIONS,
+                                          LIFT_ITERATIONS))
+    return sum(_reach_cost(env, ends[i], pos[i], rot[i]) for i in (0, 2, 3))
 
   grasps = jnp.arange(points.shape[0])
   twists = jnp.arange(plan_.twists.shape[1])
-  costs = jax.vmap(lambda g: jax.vmap(lambda k: cost(g, k))(twists))(grasps)   # (2, t)
+  costs = jax.vmap(lambda g: jax.vmap(lambda k: cost(g, k))(twists))(grasps)   # (4, t)
   costs = jnp.where(plan_.twist_valid[m][None], costs, jnp.inf)
   best = jnp.argmin(costs.ravel())
   return (best // twists.shape[0]).astype(jnp.int32), (best % twists.shape[0]).astype(jnp.int32)
@@ -344,16 +380,7 @@ def act(env, plan_, expert, state):
   grasp_points, grasp_rots = _grasps(plan_, home_rot, part_pos[m], part_rot[m], m)
   grasp_pos, grasp_rot = grasp_points[expert.grasp], grasp_rots[expert.grasp]
   hover = grasp_pos + jnp.array([0.0, 0.0, HOVER])
-  # The carry height keeps the part, however it is turned, CARRY_MARGIN clear of its
-  # mated pose's height and of the top of everything else (the legs already standing on
-  # the assembly: passing among them knocked the part out of the grip).
-  corners = jax.vmap(_corners)(part_pos, part_rot, plan_.center, plan_.half)   # (p, 8, 3)
-  others = jnp.arange(part_pos.shape[0]) != m
-  others_top = jnp.max(jnp.where(others, corners[:, :, 2].max(axis=1), 0.0))
-  depth = jnp.maximum(_depth(part_rot[m], plan_.center[m], plan_.half[m]),
-                      _depth(goal_rot, plan_.center[m], plan_.half[m]))
-  carry_z = CARRY_MARGIN + jnp.maximum(others_top + depth,
-                                       jnp.maximum(goal_pos[2], 0.0) + depth)
+  others_top, carry_z = _heights(plan_, part_pos, part_rot, m, goal_pos, goal_rot)
   above = goal_pos + jnp.array([0.0, 0.0, APPROACH])
   # The task-space target moved by the part's present pose error: the target integrates
   # the error, so the tool's tracking offset (gravity on the servos) and slip in the grip
@@ -367,23 +394,38 @@ def act(env, plan_, expert, state):
   phase, steps = expert.phase, expert.steps
   lift_pos = jnp.concatenate([tool_pos[:2], carry_z[None] + (tool_pos[2] - part_pos[m][2])])
   goal_tool = tool_for(goal_pos, goal_rot)
-  # Carry at the carry height until over the mate, then down to `above`.
+  # Carry at the carry height until over the mate (CARRY), then down to `above` (LOWER).
   horizontal = jnp.linalg.norm((part_pos[m] - above)[:2])
   high = above.at[2].set(jnp.maximum(above[2], carry_z))
-  carry_pos = jnp.where(horizontal > 0.02, high, above)
-  carry_tool = tool_for(carry_pos, goal_rot)
+  carry_tool = tool_for(high, goal_rot)
+  lower_tool = tool_for(above, goal_rot)
+  # The open hand goes over everything else before it comes down to the hover: reaching
+  # straight for it, the fingers swept through the legs standing on the assembly and
+  # pushed it away from where the grasp and twist were chosen.
+  reach_pos = jnp.where(jnp.linalg.norm((tool_pos - hover)[:2]) > REACH_NEAR,
+                        hover.at[2].set(jnp.maximum(hover[2], others_top + plan_.pad_below
+                                                    + CARRY_MARGIN)), hover)
   waypoints = [
-      (hover, grasp_rot, 1.0),
+      (reach_pos, grasp_rot, 1.0),
       (grasp_pos, grasp_rot, DESCEND_GAIN),
       (targets.pos, targets.rot, 1.0),
       (lift_pos, targets.rot, 1.0),
       (carry_tool[0], carry_tool[1], CARRY_GAIN),
+      (lower_tool[0], lower_tool[1], CARRY_GAIN),
       (goal_tool[0], goal_tool[1], CARRY_GAIN),
   ]
   pos_d = jnp.stack([w[0] for w in waypoints])[phase]
   rot_d = jnp.stack([w[1] for w in waypoints])[phase]
   gain = jnp.array([w[2] for w in waypoints])[phase]
   tool_action = _toward(targets, pos_d, rot_d, mt, mr, gain)
+  # While the part is steered by its own pose error the target integrates that error; a
+  # target far ahead of the lagging tool overshot, and the part hunted round the point
+  # above its mate. The target is kept within LEAD of the measured tool instead (the
+  # servos' sag under a held part is about half that).
+  ahead = targets.pos + tool_action[:3] * mt - tool_pos
+  kept = tool_pos + ahead * jnp.minimum(1.0, LEAD / jnp.maximum(jnp.linalg.norm(ahead), 1e-9))
+  tool_action = jnp.where(phase >= CARRY, tool_action.at[:3].set(
+      jnp.clip((kept - targets.pos) / mt, -1.0, 1.0)), tool_action)
   # A held part turns at CARRY_TURN of the top turning speed, half the CPU expert's
   # carry turn (experts/arm_motion.CARRY_TURN): at full speed it swung out of the grip,
   # and at the CPU's 0.3 more legs slipped (table, seed 2: 2 of 8 worlds completed
@@ -404,6 +446,7 @@ def act(env, plan_, expert, state):
       at(grasp_pos, grasp_rot) | (steps > 40),
       steps >= CLOSE_STEPS,
       part_pos[m][2] > carry_z - 0.01,
+      (horizontal < OVER_MATE[0]) & (carry_err[1] < OVER_MATE[1]),
       (carry_err[0] < CARRY_GATE[0]) & (carry_err[1] < CARRY_GATE[1]),
       jnp.bool_(False),
   ])[phase]
