@@ -39,25 +39,3 @@ def test_servo_path_end_stops_where_the_arm_servoed_there_stops(move, turn):
   # their own way); the wrist the other way round would end a full turn (6.3 rad) away.
   assert np.abs(replayed - reached).max() < 0.3
   assert abs(replayed[6] - reached[6]) < 0.2
-
-
-def test_the_jacos_wrist_folds_in_to_its_cramped_within():
-  """The Jaco's servo brings a level tool to a pose with its wrist CRAMPED_WITHIN (0.3 m)
-  from the base, a pose the default (the Sawyer's and Panda's 0.45 m) counts as cramped."""
-  env = ikea_suite.load("stool_square_pine", "jaco", seed=0, scale=0.5)
-  env.reset()
-  robot, physics = env.task.robot, env.physics
-  base, _ = robot.base_pose
-  bearing, heading = 0.5, -1.0   # the wrist ahead and to the left, the tool pointing right
-  approach = np.array([np.cos(heading), np.sin(heading), 0.0])
-  wrist = base + robot.CRAMPED_WITHIN * np.array([np.cos(bearing), np.sin(bearing), 0.0])
-  goal_pos = wrist + arm_motion.WRIST_BACK * approach + [0.0, 0.0, 0.2]
-  goal_rot = np.column_stack([[0.0, 0.0, 1.0], np.cross(approach, [0.0, 0.0, 1.0]), approach])
-  _, distance, angle = arm_motion.servo_path_end(
-      robot, 0, robot.arm_qpos(physics), goal_pos, goal_rot, env.control_timestep(),
-      arm_motion.CARRY_TURN)
-  assert distance < 0.01 and angle < 0.05
-  assert arm_motion.cramped(robot, goal_pos, approach) == pytest.approx(0.0, abs=1e-9)
-  sawyer = ikea_suite.load("stool_square_pine", "sawyer", seed=0, scale=0.5).task.robot
-  shift = sawyer.base_pose[0] - base
-  assert arm_motion.cramped(sawyer, goal_pos + shift, approach) > 0.1

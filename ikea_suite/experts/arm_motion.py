@@ -269,13 +269,12 @@ CARRY_TURN = 0.3
 WRIST_BACK = 0.25
 
 
-def cramped(robot, tool_pos, tool_axis):
-  """How far (m) the wrist, WRIST_BACK along the tool axis, lies inside the robot's
-  CRAMPED_WITHIN of the base (horizontally): a wrist folded in beside the base is
-  cramped, and the differential IK stalls there."""
-  base_pos, _ = robot.base_pose
+def cramped(base_pos, tool_pos, tool_axis):
+  """How far (m) the wrist, WRIST_BACK along the tool axis, lies inside 0.45 m of the base
+  (horizontally): a wrist folded in beside the base is cramped, and the differential IK
+  stalls there."""
   wrist = tool_pos - WRIST_BACK * tool_axis
-  return max(0.0, robot.CRAMPED_WITHIN - np.linalg.norm(wrist[:2] - base_pos[:2]))
+  return max(0.0, 0.45 - np.linalg.norm(wrist[:2] - base_pos[:2]))
 
 
 def pinned(robot, physics, arm, within=0.02):

@@ -208,6 +208,7 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None, start=No
   task, physics, robot = env.task, env.physics, env.task.robot
   table, state = task.furniture.connectors, task.state
   groups = state.group_labels()
+  base_pos, _ = robot.base_pose
   part_xy = task.furniture.part_poses(physics)[0][moving][:2]
   # Mates nearby first; from the rack, the farthest first (see next_part.nearest_open_job).
   nearby = -0.3 if moving in task.initializer.racked_parts else 0.3
@@ -226,7 +227,7 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None, start=No
         continue
       goal_pos, goal_rot = tool_goal_for_part(
           env, arm, moving, part_pos + approach * side, part_rot, grip)
-      cramped = arm_motion.cramped(robot, goal_pos, goal_rot[:, 2])
+      cramped = arm_motion.cramped(base_pos, goal_pos, goal_rot[:, 2])
       in_the_way = hand_in_the_way(env, arm, goal_pos, goal_rot)
       score = (reach_cost(robot, physics, arm, goal_pos, goal_rot, start, servo=(
           env.control_timestep(), arm_motion.CARRY_TURN)) + 2.0 * cramped

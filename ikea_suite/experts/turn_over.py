@@ -210,11 +210,11 @@ class TurnOver:
         rolled = point + (slots - point) @ geometry.axis_angle_to_mat(np.pi * approach).T
         cost = SLOT_OUT * np.abs(np.linalg.norm(rolled[:, :2] - base[:2], axis=1)
                                  - np.linalg.norm(centre[:2] - base[:2])).mean()
-        cost += 2.0 * arm_motion.cramped(robot, point, approach)
+        cost += 2.0 * arm_motion.cramped(base, point, approach)
         # The waiting part then goes in from above: rolled over a near leg, the back's slot
         # lay 0.26 m from the Panda's base, where its tool, pointing down 0.5 m up, could
         # not reach, and both twists stalled (chair_back_ivar, chair_back_black_wide).
-        cost += 2.0 * np.mean([arm_motion.cramped(robot, slot, np.array([0.0, 0.0, -1.0]))
+        cost += 2.0 * np.mean([arm_motion.cramped(base, slot, np.array([0.0, 0.0, -1.0]))
                                for slot in rolled])
         for goal in poses:
           miss, margin, _ = robot.reach_check(physics, self._arm, *goal)

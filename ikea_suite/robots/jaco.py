@@ -43,10 +43,6 @@ class Jaco(manipulator.Manipulator):
   # the compiled model, TCP at the pinch depth: the hand puts it 0.19 m past the wrist).
   # At 0.8, parts drawn 0.72-0.8 m out were never picked up.
   REACH = 0.7
-  # Servoed from home (experts/arm_motion.servo_path_end) to level tool poses 0.12-0.3 m
-  # up, it reached 28 of 28 with the wrist 0.3 m from the base and 23 of 25 at 0.25 m
-  # (the Sawyer 21 of 28 and 12 of 25): its wrist folds in closer than the default's.
-  CRAMPED_WITHIN = 0.3
   KP_PER_NM = 30.0   # the Jaco's heavy joint armature needs stiffer position gains
 
   def _build_body(self, name):

@@ -99,12 +99,6 @@ class Manipulator(base.Robot):
   # Metres out to the centre of the part built onto (more for a wide one): a held part mated
   # nearer the base folds the elbow into it (measured with the Sawyer at 0.4 m).
   ROOT_DISTANCE = 0.45
-  # Metres from the base (horizontally) inside which the wrist is cramped: the experts
-  # avoid tool poses with the wrist folded in that close, which the differential IK
-  # stalls short of (experts/arm_motion.cramped). Servoed from home to level tool poses
-  # 0.12-0.3 m up (arm_motion.servo_path_end), the Sawyer reached 21 of 28 with the wrist
-  # 0.3 m from the base and the Panda 14 of 28; the Jaco reached all (robots/jaco.py).
-  CRAMPED_WITHIN = 0.45
   # Parts lie within this angle either side of the base's heading (rad).
   PLACEMENT_SECTOR = np.radians(110)
   # (bearing, metres): parts beyond that bearing may lie out that far (base.ReachZone).
