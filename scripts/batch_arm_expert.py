@@ -4,8 +4,10 @@ Each world starts with every part but one joined (load option preassembled = par
 laid out by the CPU task's placement; batch/arm_model.py turns the joined group over when
 the last part goes in from below), and the expert grasps the loose part, carries it to its
 mate and connects. Prints, per model, the worlds that completed their first episode, the
-steps the slowest completed world took, and the wall time (model build and jit compile
-included); exits 1 if any model is below --min-success. The MJX implementation is
+steps the slowest completed world took, the wall time (model build and jit compile
+included) and the world-steps in which MJX-Warp's contact or constraint buffers
+overflowed (batch/contact_buffers.py; none on JAX or the host); exits 1 if any model is
+below --min-success or any buffer overflowed. The MJX implementation is
 backend.default_impl() (Warp on a GPU) unless --impl; --host-physics steps the physics
 with MuJoCo's C library instead (the CPU tests' path, tests/test_batch_arm.py).
 
@@ -42,8 +44,8 @@ def main(argv=None):
   print(f"robot {args.robot}, {args.worlds} worlds, MJX impl {impl}"
         f"{' (physics: MuJoCo C on the host)' if args.host_physics else ''}")
   print(f"{'model':32s} {'parts':>5s} {'completed':>11s} {'rate':>6s} {'steps':>5s} "
-        f"{'wall s':>7s}", flush=True)
-  failed = []
+        f"{'wall s':>7s} {'overflow':>8s}", flush=True)
+  failed, overflowed = [], []
   for name in args.furniture:
     start = time.time()
     parts = len(catalog.spec(name).parts)
@@ -51,14 +53,20 @@ def main(argv=None):
                        preassembled=parts - 1)
     success, steps, _ = arm_scripted.rollout(env, args.worlds, args.steps, seed=args.seed,
                                              host_physics=args.host_physics)
+    totals = env.overflow_watch.flush()
     rate = float(np.mean(success))
     print(f"{name:32s} {parts:5d} {f'{int(success.sum())}/{len(success)}':>11s} {rate:6.1%} "
-          f"{int(steps.max()):5d} {time.time() - start:7.1f}", flush=True)
+          f"{int(steps.max()):5d} {time.time() - start:7.1f} {sum(totals.values()):8d}",
+          flush=True)
     if rate < args.min_success:
       failed.append(name)
+    if totals:
+      overflowed.append(f"{name} ({', '.join(f'{k}: {v} world-steps' for k, v in totals.items())})")
   if failed:
     print("below --min-success:", ", ".join(failed))
-  return 1 if failed else 0
+  if overflowed:
+    print("buffer overflow (contacts or constraint rows dropped):", "; ".join(overflowed))
+  return 1 if failed or overflowed else 0
 
 
 if __name__ == "__main__":
