@@ -12,11 +12,17 @@ ik_qp.py): the tool's position error (cost 1) and rotation error (cost 0.5), a p
 term towards home (cost 1e-2), Levenberg-Marquardt damping 1e-3, a joint velocity
 limit of VELOCITY_LIMIT rad/s over the control step and the joint ranges the CPU IK
 keeps in (physical limits with the robot's IK_WORKING_RANGES). It differs in how: the
-unconstrained damped least-squares step is solved in closed form, then scaled down
-as a whole to meet the velocity limit and clipped to the joint ranges, where the CPU
-solves the box-constrained QP exactly (DAQP); and the rotation error is the world-frame
-rotation vector where mink uses the SE(3) logarithm in the tool frame. Both agree to
-first order; tests/test_batch_arm.py measures the difference in tool motion.
+damped least-squares step is solved with the joint ranges as a box (`box_qp`: a fixed
+number of active-set passes, each in closed form, so that a joint held at its range
+leaves the rest of the motion to the other joints, as the exact QP does; clipping the
+unconstrained step instead stalled the tool where the shoulder met its range), then
+scaled down as a whole to meet the velocity limit, where the CPU solves one QP with both
+boxes exactly (DAQP); and the rotation error is the world-frame rotation vector where
+mink uses the SE(3) logarithm in the tool frame. Both agree to first order;
+tests/test_batch_arm.py measures the difference in tool motion. (Bounding each joint's
+step by the velocity limit in the box as well, as the CPU does, brought the batched tool
+to within 6 mm of the CPU's through turns, against 77 mm with the scaling, but the
+batched expert, built on the scaled step, then completed 20 of 24 tables.)
 
 The Jacobian comes from forward kinematics of the arm's kinematic chain written in
 jax (`Chain`), taken from the compiled model's body, joint and site frames and
@@ -154,9 +160,54 @@ def ik_step(chain_, q, target_pos, target_rot, home, low, high, max_step):
   n = q.shape[0]
   hessian = jac.T @ (weight[:, None] * jac) + (POSTURE_COST ** 2 + DAMPING) * jnp.eye(n)
   gradient = jac.T @ (weight * error) + POSTURE_COST ** 2 * (home - q)
-  dq = jnp.linalg.solve(hessian, gradient)
+  dq = box_qp(hessian, gradient, low - q, high - q)
   scale = jnp.minimum(1.0, max_step / jnp.maximum(jnp.max(jnp.abs(dq)), 1e-12))
   return jnp.clip(q + scale * dq, low, high)
+
+
+# Active-set passes of box_qp: a pass fixes every joint that left its box and frees every
+# fixed joint the objective pulls back inside. On 300 random 7-joint problems (random
+# positive definite H, g and boxes about the origin) 10 passes reached the optimum of
+# scipy's L-BFGS-B in 299 (6 passes: 294; 4: 249).
+BOX_QP_PASSES = 10
+
+
+def box_qp(hessian, gradient, lower, upper, passes=BOX_QP_PASSES):
+  """Minimises 0.5 x'Hx - g'x subject to lower <= x <= upper (H positive definite).
+
+  Each pass solves the equality-constrained problem with the joints of the active set
+  held at their bounds, then updates the set by the violated bounds and the signs of the
+  gradient at the held joints (the KKT conditions); the result is clipped to the box.
+
+  Args:
+    hessian: (n, n) H.
+    gradient: (n,) g.
+    lower, upper: (n,) bounds, lower <= upper.
+    passes: active-set passes (a static int).
+
+  Returns:
+    (n,) x.
+  """
+  def solve(at_lower, at_upper):
+    held = at_lower | at_upper
+    fixed = jnp.where(at_lower, lower, jnp.where(at_upper, upper, 0.0))
+    both_free = ~held[:, None] & ~held[None, :]
+    system = jnp.where(both_free, hessian, 0.0) + jnp.diag(jnp.where(held, 1.0, 0.0))
+    rhs = jnp.where(held, fixed, gradient - hessian @ fixed)
+    return jnp.linalg.solve(system, rhs)
+
+  def one_pass(bounds, _):
+    at_lower, at_upper = bounds
+    x = solve(at_lower, at_upper)
+    slope = hessian @ x - gradient      # d(objective)/dx
+    free = ~(at_lower | at_upper)
+    at_lower = (free & (x < lower)) | (at_lower & (slope >= 0.0))
+    at_upper = (free & (x > upper)) | (at_upper & (slope <= 0.0))
+    return (at_lower, at_upper), None
+
+  none = jnp.zeros(gradient.shape, dtype=bool)
+  (at_lower, at_upper), _ = jax.lax.scan(one_pass, (none, none), None, length=passes)
+  return jnp.clip(solve(at_lower, at_upper), lower, upper)
 
 
 class TaskTargets(typing.NamedTuple):
