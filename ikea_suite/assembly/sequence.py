@@ -160,42 +160,36 @@ def _exit_path(scene, part, present, tilted=np.zeros((0, 3))):
   diagonal ones, which beat paths along `tilted` directions (straight, then
   a short way along one and sideways out).
   """
-  straight = []
-  for d in _AXES:
-    length = scene.clearance(part, present, d)
-    straight.append((length, d))
-  for length, d in sorted(straight, key=lambda item: item[0]):
-    if scene.path_free(part, np.zeros(3), d, length):
-      return (length * d, np.zeros(3))
+  return (_straight_exit(scene, part, present, _AXES)
+          or _bent_exit(scene, part, present, _AXES, across_only=True)
+          or _straight_exit(scene, part, present, _DIAGONALS)
+          or _straight_exit(scene, part, present, tilted)
+          or _bent_exit(scene, part, present, tilted, across_only=False))
+
+
+def _straight_exit(scene, part, present, directions):
+  """The shortest free straight exit along one of `directions` (_exit_path's waypoints),
+  or None."""
+  lengths = [scene.clearance(part, present, d) for d in directions]
+  for k in sorted(range(len(lengths)), key=lengths.__getitem__):
+    if scene.path_free(part, np.zeros(3), directions[k], lengths[k]):
+      return (lengths[k] * directions[k], np.zeros(3))
+  return None
+
+
+def _bent_exit(scene, part, present, directions, across_only):
+  """The shortest free two-leg exit (_exit_path's waypoints), or None: a SHORT_MOVE along
+  one of `directions`, then out along an axis that does not point down (and, if
+  `across_only`, is not along the first leg)."""
   bent = []
-  for d in _AXES:
+  for d in directions:
     for short in SHORT_MOVE:
       if not scene.path_free(part, np.zeros(3), d, short):
         break
       first = short * d
       for side in _AXES:
-        if abs(side @ d) < 0.5 and side[2] > -0.5:
+        if side[2] > -0.5 and not (across_only and abs(side @ d) >= 0.5):
           bent.append((short + scene.clearance(part, present, side, first), first, side))
-  for _, first, side in sorted(bent, key=lambda item: item[0]):
-    length = scene.clearance(part, present, side, first)
-    if scene.path_free(part, first, side, length):
-      return (first + length * side, first, np.zeros(3))
-  diagonal = sorted((scene.clearance(part, present, d), k) for k, d in enumerate(_DIAGONALS))
-  for length, k in diagonal:
-    if scene.path_free(part, np.zeros(3), _DIAGONALS[k], length):
-      return (length * _DIAGONALS[k], np.zeros(3))
-  for length, d in sorted(((scene.clearance(part, present, d), d) for d in tilted),
-                          key=lambda item: item[0]):
-    if scene.path_free(part, np.zeros(3), d, length):
-      return (length * d, np.zeros(3))
-  bent = []
-  for d in tilted:
-    for short in SHORT_MOVE:
-      if not scene.path_free(part, np.zeros(3), d, short):
-        break
-      for side in _AXES:
-        if side[2] > -0.5:
-          bent.append((short + scene.clearance(part, present, side, short * d), short * d, side))
   for _, first, side in sorted(bent, key=lambda item: item[0]):
     length = scene.clearance(part, present, side, first)
     if scene.path_free(part, first, side, length):
