@@ -24,6 +24,7 @@ import numpy as np
 from ikea_suite.batch import arm_env
 from ikea_suite.batch import arm_scripted
 from ikea_suite.batch import backend
+from ikea_suite.batch import contact_buffers
 from ikea_suite.props import catalog
 
 FURNITURE = ("table_four_leg_lack", "stool_square_pine", "bench_plank_pine")
@@ -45,7 +46,7 @@ def main(argv=None):
         f"{' (physics: MuJoCo C on the host)' if args.host_physics else ''}")
   print(f"{'model':32s} {'parts':>5s} {'completed':>11s} {'rate':>6s} {'steps':>5s} "
         f"{'wall s':>7s} {'overflow':>8s}", flush=True)
-  failed, overflowed = [], []
+  failed, overflowed = [], {}
   for name in args.furniture:
     start = time.time()
     parts = len(catalog.spec(name).parts)
@@ -61,11 +62,11 @@ def main(argv=None):
     if rate < args.min_success:
       failed.append(name)
     if totals:
-      overflowed.append(f"{name} ({', '.join(f'{k}: {v} world-steps' for k, v in totals.items())})")
+      overflowed[name] = totals
   if failed:
     print("below --min-success:", ", ".join(failed))
   if overflowed:
-    print("buffer overflow (contacts or constraint rows dropped):", "; ".join(overflowed))
+    print(contact_buffers.overflow_summary(overflowed))
   return 1 if failed or overflowed else 0
 
 

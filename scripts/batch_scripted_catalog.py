@@ -26,6 +26,7 @@ import time
 import numpy as np
 
 from ikea_suite.batch import backend
+from ikea_suite.batch import contact_buffers
 from ikea_suite.batch import env as env_lib
 from ikea_suite.batch import scripted
 from ikea_suite.props import catalog
@@ -50,7 +51,7 @@ def main(argv=None):
   print(f"MJX impl: {impl}; {args.worlds} worlds", flush=True)
   print(f"{'model':40s} {'parts':>5s} {'welds':>5s} {'completed':>9s} {'steps':>5s} "
         f"{'wall s':>7s} {'nconmax':>7s} {'njmax':>5s} {'overflow':>8s}", flush=True)
-  failed, overflowed = [], []
+  failed, overflowed = [], {}
   for name in models:
     start = time.time()
     env = env_lib.load(name, impl=impl, num_worlds=args.worlds, buffer_sizes=args.buffer_sizes)
@@ -70,11 +71,11 @@ def main(argv=None):
     if rate < args.min_success:
       failed.append(name)
     if new:
-      overflowed.append(f"{name} ({', '.join(f'{k}: {v} world-steps' for k, v in new.items())})")
+      overflowed[name] = new
   if failed:
     print("below --min-success:", ", ".join(failed))
   if overflowed:
-    print("buffer overflow (contacts or constraint rows dropped):", "; ".join(overflowed))
+    print(contact_buffers.overflow_summary(overflowed))
   return 1 if failed or overflowed else 0
 
 

@@ -367,6 +367,20 @@ def describe(bits):
   return sorted({name for bit, name in OVERFLOW_BUFFERS.items() if int(bits) & bit})
 
 
+
+def overflow_summary(by_model):
+  """The line a script prints when buffers overflowed.
+
+  Args:
+    by_model: furniture name -> {buffer name: world-steps that overflowed it}.
+
+  Returns:
+    str naming each model's buffers and their world-steps.
+  """
+  return "buffer overflow (contacts or constraint rows dropped): " + "; ".join(
+      f"{name} ({', '.join(f'{k}: {v} world-steps' for k, v in totals.items())})"
+      for name, totals in by_model.items())
+
 class OverflowWatch:
   """Counts the world-steps whose Warp buffers overflowed and warns, on the host.
 
