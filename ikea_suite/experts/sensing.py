@@ -16,6 +16,12 @@ def holding(physics, robot, arm, furniture, part):
   bounds = furniture.spec.parts[part].bounds
   if np.linalg.norm(part_pos - tcp_pos) >= 0.6 * np.max(bounds[1] - bounds[0]):
     return False
+  return squeezed(physics, robot, arm, furniture, part)
+
+
+def squeezed(physics, robot, arm, furniture, part):
+  """The fingers stay apart on the closed hand, or two fingers touch the part (the robot's
+  own test), wherever the part is held."""
   if robot.gripper_opening(physics, arm) > 0.05:
     return True
   return bool(robot.held_parts_by_tool(physics, [furniture.body_ids[part]])[arm, 0])

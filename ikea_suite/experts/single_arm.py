@@ -21,6 +21,7 @@ from ikea_suite.experts import mating
 from ikea_suite.experts import next_part
 from ikea_suite.experts import part_geometry
 from ikea_suite.experts import sensing
+from ikea_suite.experts import stand_up
 from ikea_suite.experts import top_down_grasp
 from ikea_suite.experts import turn_over
 from ikea_suite.robots import control_modes
@@ -41,12 +42,15 @@ class Phase(enum.Enum):
   PUT_BACK = "put_back"   # set a part down where it was taken, to take it another way
   UNWIND = "unwind"     # back to the home joint configuration along a joint-space path
   TURN_OVER = "turn_over"   # roll the assembly onto its other face (turn_over.TurnOver)
+  STAND_UP = "stand_up"     # stand the lying root up on its foot (stand_up.StandUp)
 
 
 # Phases in which the fingers close on, or hold, a part.
 _HOLDING = (Phase.CLOSE, Phase.LIFT, Phase.ALIGN, Phase.INSERT, Phase.PUT_BACK)
 # Phases that go on with no part chosen.
-_WITHOUT_A_PART = (Phase.RELEASE, Phase.RETREAT, Phase.UNWIND, Phase.TURN_OVER)
+_WITHOUT_A_PART = (Phase.RELEASE, Phase.RETREAT, Phase.UNWIND, Phase.TURN_OVER, Phase.STAND_UP)
+# Phases another skill drives from start to end, choosing no part meanwhile.
+_OWN_SKILL = (Phase.TURN_OVER, Phase.STAND_UP)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -114,6 +118,7 @@ class ArmAssemblyController:
     self._hold_command = arm_motion.hold_command(robot.arms[arm].gripper,
                                                  top_down_grasp.HOLD_SHORT_OF_CLOSED)
     self._turn_over = turn_over.TurnOver(env, arm, self._surface, self._clearance, close_steps)
+    self._stand_up = stand_up.StandUp(env, arm, self._surface, self._clearance, close_steps)
     self.reset()
 
   def reset(self):
@@ -121,6 +126,7 @@ class ArmAssemblyController:
     self._servo.reset()
     self._clearance.reset()
     self._turn_over.reset()
+    self._stand_up.reset()
     self._grasps.new_reach()
     self._carry_watch.reset()
     self._carry_height.reset()
@@ -203,7 +209,7 @@ class ArmAssemblyController:
     action = np.zeros(env.action_spec().shape)
     if len(env.task.state.connections) != self._connections:
       self._after_connection()
-    if (self._job is None and self.phase != Phase.TURN_OVER
+    if (self._job is None and self.phase not in _OWN_SKILL
         or self.phase == Phase.REACH and self._counter == 0):
       self._choose_work()
     if self._job is None and self.phase not in _WITHOUT_A_PART:
@@ -222,8 +228,8 @@ class ArmAssemblyController:
     self._carry_stalls = {}
 
   def _choose_work(self):
-    """The next part and its grasp; with no part left to bring, a turn-over if mates wait
-    for one."""
+    """The next part and its grasp; with no part left to bring, a stand-up of the root or
+    a turn-over if mates wait for one."""
     env, task = self._env, self._env.task
     self._job = self._choose_job()
     if self._job is None and self._unreachable and not task.state.complete:
@@ -235,6 +241,9 @@ class ArmAssemblyController:
       self._grasp_sign = mating.choose_grasp_sign(
           env, self._arm, self._job[1], self._grasp_pose, self._hover, self._approach,
           self._failed_plans, self._stalled_grasps, self._carry_height.nominal)
+    elif self.phase != Phase.UNWIND and stand_up.needed(task, env.physics, self._surface):
+      self._stand_up.start(self.closing_local())
+      self.phase = Phase.STAND_UP
     elif self.phase != Phase.UNWIND and turn_over.waiting(
         task, env.physics, self._surface) and self._turn_over.start(self.closing_local()):
       self.phase = Phase.TURN_OVER
@@ -486,6 +495,13 @@ class ArmAssemblyController:
     if self._turn_over.step == turn_over.Step.DONE:
       self._to_next_reach(keep_clear=True)
 
+  def _on_stand_up(self, command, moving):
+    """The stand-up's own steps (stand_up.StandUp), gripper included."""
+    command.tool[:], command.action[command.grip] = (self._stand_up(self._servo),
+                                                     self._stand_up.gripper())
+    if self._stand_up.step == stand_up.Step.DONE:
+      self._to_next_reach(keep_clear=True)
+
   def _on_unwind(self, command, moving):
     """Home along a joint-space path (arm_motion.Unwinder); then the next reach."""
     command.tool[:] = self._unwinder(self._robot, self._env.physics, self._arm)
@@ -496,7 +512,7 @@ class ArmAssemblyController:
              Phase.LIFT: _on_lift, Phase.ALIGN: _on_align, Phase.INSERT: _on_insert,
              Phase.RELEASE: _on_release, Phase.RETREAT: _on_retreat,
              Phase.PUT_BACK: _on_put_back, Phase.UNWIND: _on_unwind,
-             Phase.TURN_OVER: _on_turn_over}
+             Phase.TURN_OVER: _on_turn_over, Phase.STAND_UP: _on_stand_up}
 
   # -- moving between phases -------------------------------------------------------------
 

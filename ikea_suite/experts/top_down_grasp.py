@@ -121,7 +121,7 @@ class TopDownGrasp:
       face[up] = bounds[int(part_rot[2, up] > 0)][up]
       flat = self.turns_flat(part)
       if flat:
-        face = self._clear_of_connectors(part, face)
+        face = self._clear_of_connectors(part, face, up)
       point = part_pos + part_rot @ face
       point[2] += route.pad_below - (self._flat_grip_depth() if flat else EDGE_GRIP)
     closing = part_geometry.across_long_axis(part_rot, bounds) * sign
@@ -156,14 +156,16 @@ class TopDownGrasp:
       self._finger_points = finger_room.finger_points(self._robot, self._env.physics, self._arm)
     return min(FLAT_EDGE_GRIP, np.ptp(self._finger_points[:, 2]) - FLAT_FINGER_ROOT)
 
-  def _clear_of_connectors(self, part, face):
-    """`face` (part frame, the middle of the top edge) moved along the part's long axis to
-    the nearest point FLAT_EDGE_CLEAR from each of its connectors (unmoved with none such
-    on the edge)."""
+  def _clear_of_connectors(self, part, face, up):
+    """`face` (part frame, the middle of the top edge) moved along the top edge to the
+    nearest point FLAT_EDGE_CLEAR from each of its connectors (unmoved with none such on
+    the edge). The edge runs along the part axis that is neither its thickness nor `up`,
+    the one standing up: a round seat's two longest axes tie, and moved along the
+    vertical one the grasp went 3 cm down into the seat, the fingers landing on it."""
     furniture = self._env.task.furniture
     bounds = furniture.spec.parts[part].bounds
     table = furniture.connectors
-    axis = int(np.argmax(bounds[1] - bounds[0]))
+    axis = ({0, 1, 2} - {up, int(np.argmin(bounds[1] - bounds[0]))}).pop()
     along = table.local_pos[table.part == part][:, axis]
     candidates = np.arange(bounds[0][axis] + FLAT_EDGE_CLEAR,
                            bounds[1][axis] - FLAT_EDGE_CLEAR, 0.001)
