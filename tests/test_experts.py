@@ -16,6 +16,8 @@ from ikea_suite.experts import cursor_oracle
 from ikea_suite.experts import part_geometry
 from ikea_suite.experts import registry
 from ikea_suite.experts import single_arm
+from ikea_suite.experts import stand_up
+from ikea_suite.experts import turn_over
 from tests import helpers
 
 
@@ -292,3 +294,34 @@ def test_registry_names_each_robots_expert_and_its_control_modes():
   with pytest.raises(ikea_suite.IkeaSuiteError,
                      match="the baxter expert .* got control_mode='joint_torque'"):
     experts.make_expert(env)
+
+
+def test_the_arm_stands_a_pedestal_lying_on_its_side_up_on_its_base():
+  # The pedestal (post and base disc, one part) lies on its side, the seat's mate level
+  # with the floor: no part can go in until the arm has stood it up (experts/stand_up.py).
+  env = ikea_suite.load("stool_pedestal_white", "sawyer", seed=1000, scale=0.5)
+  expert = experts.make_expert(env, require_supported=False)
+  timestep = env.reset()
+  expert.reset()
+  task, physics = env.task, env.physics   # the physics reset made
+  surface = task.arena.support.height
+  spec, root = task.furniture.spec, task.root_part
+  assert stand_up.is_foot(spec, root)
+  assert not stand_up.is_foot(*_root_of("table_round_post_d50_black"))   # the post, on its base
+  assert not stand_up.is_foot(*_root_of("bench_slatted_oak"))   # an end, the other beside it
+  assert stand_up.needed(task, physics, surface)
+  stood = False
+  for _ in range(400):
+    timestep = env.step(expert(timestep))
+    stood = stood or expert.phase == single_arm.Phase.STAND_UP
+    if stood and expert.phase != single_arm.Phase.STAND_UP:
+      break
+  _, rot = part_geometry.part_pose(physics, task.furniture, root)
+  assert (rot @ stand_up.upright_axis(spec, root))[2] > 0.99   # standing on its base
+  assert not stand_up.needed(task, physics, surface)
+  assert not turn_over.waiting(task, physics, surface)   # the seat goes in from above
+
+
+def _root_of(furniture):
+  env = ikea_suite.load(furniture, "sawyer", seed=0, scale=0.5)
+  return env.task.furniture.spec, env.task.root_part
