@@ -306,9 +306,11 @@ def test_the_arm_stands_a_pedestal_lying_on_its_side_up_on_its_base():
   task, physics = env.task, env.physics   # the physics reset made
   surface = task.arena.support.height
   spec, root = task.furniture.spec, task.root_part
-  assert stand_up.is_foot(spec, root)
-  assert not stand_up.is_foot(*_root_of("table_round_post_d50_black"))   # the post, on its base
-  assert not stand_up.is_foot(*_root_of("bench_slatted_oak"))   # an end, the other beside it
+  np.testing.assert_array_equal(stand_up.standing_axis(spec, root), [0.0, 0.0, 1.0])
+  # The post stands on its top end, for its base to go in first.
+  np.testing.assert_array_equal(
+      stand_up.standing_axis(*_root_of("table_round_post_d50_black")), [0.0, 0.0, -1.0])
+  assert stand_up.standing_axis(*_root_of("bench_slatted_oak")) is None   # the other end beside
   assert stand_up.needed(task, physics, surface)
   stood = False
   for _ in range(400):
@@ -317,7 +319,7 @@ def test_the_arm_stands_a_pedestal_lying_on_its_side_up_on_its_base():
     if stood and expert.phase != single_arm.Phase.STAND_UP:
       break
   _, rot = part_geometry.part_pose(physics, task.furniture, root)
-  assert (rot @ stand_up.upright_axis(spec, root))[2] > 0.99   # standing on its base
+  assert (rot @ stand_up.standing_axis(spec, root))[2] > 0.99   # standing on its base
   assert not stand_up.needed(task, physics, surface)
   assert not turn_over.waiting(task, physics, surface)   # the seat goes in from above
 

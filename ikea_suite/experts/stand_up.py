@@ -4,8 +4,8 @@ A pedestal stool's pedestal (post and base disc, one part) lies on its side, the
 connector at the end of the post level with the floor: the seat would sit in the floor
 (turn_over.under_support), so no part can go in, and there is no leg to turn the
 assembly over by. One arm stands the root up (`StandUp`): it takes the root from above,
-across its upright axis, lifts it clear, turns it about the fingers' closing axis until
-it stands as it does in the furniture, sets it down on its foot, lets go and backs out
+across its standing axis, lifts it clear, turns it about the fingers' closing axis until
+it stands (`standing_axis`), sets it down on its foot, lets go and backs out
 along the hand's axis. Everything goes through the same task-space actions a learning
 agent sends; privileged state only says where the part is.
 """
@@ -47,24 +47,41 @@ def upright_axis(spec, part):
   return spec.parts[part].rot.T @ np.array([0.0, 0.0, 1.0])
 
 
-def is_foot(spec, root):
-  """Whether the furniture stands on the root: every other part lies, assembled, wholly
-  above the root's middle (a pedestal stool's seat on its pedestal; not a bench's end
-  frame, with the other end beside it, nor a table's post on its base)."""
+def standing_axis(spec, root):
+  """The part-frame unit axis that points up once the root stands alone for the other
+  parts to go in from above; None when it cannot stand so.
+
+  The furniture's up axis when the rest of the furniture stands on the root (a pedestal
+  stool's seat on its pedestal); the axis down when parts lie below the root too (a
+  round-post table's post stands on its top end: its base goes in first, and the table
+  is turned over before its top goes in, turn_over.TurnOver). None when a part reaches
+  past the root's middle (a bench's other end frame, beside the first; an armrest
+  chair's side frames, reaching below the seat).
+  """
   middle = spec.parts[root].assembled_corners()[:, 2].mean()
-  return all(p.assembled_corners()[:, 2].min() >= middle
-             for i, p in enumerate(spec.parts) if i != root)
+  below = False
+  for i, part in enumerate(spec.parts):
+    heights = part.assembled_corners()[:, 2]
+    if i == root or heights.min() >= middle:
+      continue
+    if heights.max() > middle:
+      return None
+    below = True
+  up = upright_axis(spec, root)
+  return -up if below else up
 
 
 def needed(task, physics, surface):
-  """Whether the root, alone and lying off its upright, must stand up before any part can
-  go in: it is the furniture's foot and every open mate waits in the surface
-  (turn_over.waiting)."""
+  """Whether the root, alone and lying off its standing axis (`standing_axis`), must stand
+  up before any part can go in: every open mate waits in the surface (turn_over.waiting)."""
   root = task.root_part
-  if part_geometry.root_group(task) != [root] or not is_foot(task.furniture.spec, root):
+  if len(part_geometry.root_group(task)) > 1:
+    return False
+  axis = standing_axis(task.furniture.spec, root)
+  if axis is None:
     return False
   _, rot = part_geometry.part_pose(physics, task.furniture, root)
-  up = rot @ upright_axis(task.furniture.spec, root)
+  up = rot @ axis
   return bool(np.arccos(np.clip(up[2], -1.0, 1.0)) > STANDING
               and turn_over.waiting(task, physics, surface))
 
@@ -121,7 +138,7 @@ class StandUp:
     self._closing_local = None
     self._height = 0.0
     self._count = 0
-    self._out = None
+    self._out = self._let_go = None   # where the hand backs out to; where it let go
     self._grip = None   # the tool centre in the root's frame as the lift began
 
   def _root(self):
@@ -136,7 +153,7 @@ class StandUp:
     root, furniture = self._root()
     pos, rot = part_geometry.part_pose(physics, furniture, root)
     lo, hi = furniture.spec.parts[root].bounds
-    up_local = upright_axis(furniture.spec, root)
+    up_local = standing_axis(furniture.spec, root)
     local = geometry.box_corners(lo, hi)
     along = local @ up_local
     up = rot @ up_local
@@ -236,7 +253,9 @@ class StandUp:
       return self._held_goal()
     if self.step == Step.UP:
       return np.array([*self._out[:2], self._route.safe_height()]), tcp_rot
-    return self._out, tcp_rot   # OPEN, OUT
+    if self.step == Step.OPEN:   # held still: backing out while the fingers opened, they
+      return self._let_go         # dragged a post stood on its end over
+    return self._out, tcp_rot
 
   def __call__(self, servo):
     """The task-space action entries (6) for this control step, from `servo` (an
@@ -298,7 +317,7 @@ class StandUp:
 
   def _set_out(self):
     tcp, rot = self._env.task.robot.tcp_pose(self._env.physics, self._arm)
-    self._out = tcp - STANDOFF * rot[:, 2]
+    self._out, self._let_go = tcp - STANDOFF * rot[:, 2], (tcp, rot)
 
   def _next(self):
     order = list(Step)

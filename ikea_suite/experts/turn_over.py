@@ -78,14 +78,14 @@ def waiting(task, physics, surface):
 
 
 def handles(physics, furniture, parts, root):
-  """[(part, approach, closing)]: each standing rod of the group other than the root (a
-  leg), taken from outside the assembly along one of its side faces' normals
-  (`approach`, unit, horizontal), the fingers closing across it (`closing`, either way)."""
+  """[(part, approach, closing)]: each standing rod of the group (a leg; the root itself
+  when it is one, a round-post table's post stood on its end with the base on it: see
+  stand_up), taken from outside the assembly along one of its side faces' normals
+  (`approach`, unit, horizontal; any of them for the root, in the middle of the
+  assembly), the fingers closing across it (`closing`, either way)."""
   centre = part_geometry.parts_corners(physics, furniture, parts)[:, :2].mean(axis=0)
   out = []
   for part in parts:
-    if part == root:
-      continue
     pos, rot = part_geometry.part_pose(physics, furniture, part)
     lo, hi = furniture.spec.parts[part].bounds
     order = np.argsort(hi - lo)
@@ -96,7 +96,7 @@ def handles(physics, furniture, parts, root):
         approach = sign * rot[:, axis]
         approach = approach - approach[2] * np.array([0.0, 0.0, 1.0])
         approach /= np.linalg.norm(approach)
-        if approach[:2] @ (centre - pos[:2]) <= 0.0:   # from inside the assembly
+        if part != root and approach[:2] @ (centre - pos[:2]) <= 0.0:   # from inside it
           continue
         closing = np.cross([0.0, 0.0, 1.0], approach)
         out += [(part, approach, closing), (part, approach, -closing)]   # either finger first
@@ -156,16 +156,18 @@ class TurnOver:
 
   def _plan(self, part, approach, closing):
     """(grasp position, grasp rotation, lift height) for a handle, or None when the legs
-    are too short to hold above the rest of the assembly."""
+    are too short to hold above the rest of the assembly (the root handle is taken as
+    low as the hand allows)."""
     physics, furniture = self._env.physics, self._env.task.furniture
+    root = self._env.task.root_part
     pos, _ = part_geometry.part_pose(physics, furniture, part)
     rot = arm_motion.tool_rotation(approach, closing, self._closing_local)
     handle_top = part_geometry.parts_corners(physics, furniture, [part])[:, 2].max()
-    height = max(
-        part_geometry.parts_corners(physics, furniture, [self._env.task.root_part])[:, 2].max()
-        + OVER_SEAT,
-        self._surface + HAND_CLEARANCE + arm_motion.hand_below_tool(
-            self._env.task.robot, physics, self._arm, rot))
+    height = self._surface + HAND_CLEARANCE + arm_motion.hand_below_tool(
+        self._env.task.robot, physics, self._arm, rot)
+    if part != root:
+      height = max(height,
+                   part_geometry.parts_corners(physics, furniture, [root])[:, 2].max() + OVER_SEAT)
     if height > handle_top - 0.02:
       return None
     point = np.array([pos[0], pos[1], height])
