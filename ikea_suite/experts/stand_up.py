@@ -139,7 +139,7 @@ class StandUp:
     self._height = 0.0
     self._count = 0
     self._out = self._let_go = None   # where the hand backs out to; where it let go
-    self._grip = None   # the tool centre in the root's frame as the lift began
+    self._grip = self._grip_rot = None   # the tool pose in the root's frame as the lift began
 
   def _root(self):
     task = self._env.task
@@ -196,7 +196,12 @@ class StandUp:
     for goal in poses:
       miss, margin, _ = robot.reach_check(physics, arm, *goal)
       cost += miss + np.maximum(0.0, 0.2 - margin).sum()
-    return (cost, *grasp)
+    # The servo's own path through the turn: each end reachable, the Panda's turn between
+    # them stalled with a joint at its limit and the hand wandered 0.3 m off.
+    q, dt = robot.arm_qpos(physics), self._env.control_timestep()
+    for goal, turn in zip(poses[:4], (1.0, 1.0, 1.0, arm_motion.CARRY_TURN)):
+      q, distance, angle = arm_motion.servo_path_end(robot, arm, q, *goal, dt, max_turn=turn)
+    return (cost + distance + 0.2 * angle, *grasp)
 
   def start(self, closing_local):
     """Chooses the grasp and heading the arm reaches best, `closing_local` being the
@@ -224,14 +229,16 @@ class StandUp:
     return 1.0 if self.step in (Step.CLOSE, Step.LIFT, Step.TURN, Step.LOWER) else -1.0
 
   def _held_goal(self, height=None):
-    """The tool pose that puts the held root standing, from the grip as measured now, the
-    tool at `height` (or set down)."""
+    """The tool pose that puts the held root standing, the tool at `height` (or set down):
+    turned by the grip the lift began with, and as high as the grip measured now puts the
+    foot DROP over the surface. Turned by the grip as measured, the goal chased the post
+    as it swung in the Panda's fingers, and the hand wandered 0.3 m off."""
     env = self._env
     root, furniture = self._root()
     pos, rot = part_geometry.part_pose(env.physics, furniture, root)
-    tcp, tcp_rot = env.task.robot.tcp_pose(env.physics, self._arm)
-    grip_pos, grip_rot = rot.T @ (tcp - pos), rot.T @ tcp_rot
-    goal_rot = self._standing @ grip_rot
+    tcp, _ = env.task.robot.tcp_pose(env.physics, self._arm)
+    grip_pos = rot.T @ (tcp - pos)
+    goal_rot = self._standing @ self._grip_rot
     local = geometry.box_corners(*furniture.spec.parts[root].bounds) @ self._standing.T
     goal = np.array([*self._set[0][:2], 0.0])
     goal[2] = self._surface + DROP - local[:, 2].min() + (self._standing @ grip_pos)[2]
@@ -329,5 +336,5 @@ class StandUp:
       env = self._env
       root, furniture = self._root()
       pos, rot = part_geometry.part_pose(env.physics, furniture, root)
-      tcp, _ = env.task.robot.tcp_pose(env.physics, self._arm)
-      self._grip = rot.T @ (tcp - pos)
+      tcp, tcp_rot = env.task.robot.tcp_pose(env.physics, self._arm)
+      self._grip, self._grip_rot = rot.T @ (tcp - pos), rot.T @ tcp_rot
