@@ -29,6 +29,8 @@ TIP_CLEARANCE = 0.003
 # Lifted, every corner of the root, swinging about the tool centre, clears the surface by
 # TURN_CLEARANCE (m); set down, it is let go DROP (m) over the surface.
 TURN_CLEARANCE, DROP = 0.04, 0.005
+# ... and the lift raises it by at least LIFT (m).
+LIFT = 0.05
 # The open hand comes down to the grasp from HOVER (m) over it, and backs out STANDOFF (m)
 # along its axis once the root stands.
 HOVER, STANDOFF = 0.12, 0.12
@@ -177,7 +179,7 @@ class StandUp:
                         self._surface + DROP - standing_corners[:, 2].min()])
     set_pos, set_rot = part_at + standing @ grip_pos, standing @ grip_rot
     reach = np.linalg.norm(local @ rot.T + pos - point, axis=1).max()
-    height = max(point[2] + 0.05, self._surface + TURN_CLEARANCE + reach)
+    height = max(point[2] + LIFT, self._surface + TURN_CLEARANCE + reach)
     return point, grasp_rot, height, standing, (set_pos, set_rot)
 
   def _plan(self, closing_local, sign, heading):
@@ -205,7 +207,8 @@ class StandUp:
 
   def start(self, closing_local):
     """Chooses the grasp and heading the arm reaches best, `closing_local` being the
-    fingers' closing direction in the tool frame; False when every one has failed."""
+    fingers' closing direction in the tool frame, passing over those that failed this
+    episode until every one has; returns True (the stand-up has begun)."""
     if self._route.pad_below is None:   # measured with the arm at home, as the grasps do
       self._route.pad_below = arm_motion.fingertip_reach(
           self._env.task.robot, self._env.physics, self._arm)
