@@ -1,9 +1,10 @@
 """The batched scripted arm expert (batch/arm_scripted.py) on the last-part task, per model.
 
 Each world starts with every part but one joined (load option preassembled = parts - 1,
-laid out by the CPU task's placement; batch/arm_model.py turns the joined group over when
-the last part goes in from below), and the expert grasps the loose part, carries it to its
-mate and connects. Prints, per model, the worlds that completed their first episode, the
+laid out by the CPU task's placement, a panel standing in the rack; batch/arm_model.py
+turns the joined group over when the last part goes in from below), and the expert grasps
+the loose part, carries it to its mate and connects. Prints, per model, the worlds that
+completed their first episode (and the phase each of up to 16 others stopped in), the
 steps the slowest completed world took, the wall time (model build and jit compile
 included) and the world-steps in which MJX-Warp's contact or constraint buffers
 overflowed (batch/contact_buffers.py; none on JAX or the host); exits 1 if any model is
@@ -52,13 +53,17 @@ def main(argv=None):
     parts = len(catalog.spec(name).parts)
     env = arm_env.load(name, args.robot, impl=impl, num_worlds=args.worlds,
                        preassembled=parts - 1)
-    success, steps, _ = arm_scripted.rollout(env, args.worlds, args.steps, seed=args.seed,
-                                             host_physics=args.host_physics)
+    success, steps, phase = arm_scripted.rollout(env, args.worlds, args.steps, seed=args.seed,
+                                                 host_physics=args.host_physics)
     totals = env.overflow_watch.flush()
     rate = float(np.mean(success))
     print(f"{name:32s} {parts:5d} {f'{int(success.sum())}/{len(success)}':>11s} {rate:6.1%} "
           f"{int(steps.max()):5d} {time.time() - start:7.1f} {sum(totals.values()):8d}",
           flush=True)
+    stuck = np.flatnonzero(~success)
+    if 0 < len(stuck) <= 16:   # where the worlds that did not complete stopped
+      print("  not completed: " + ", ".join(
+          f"world {w} in {arm_scripted.PHASES[phase[w]]}" for w in stuck))
     if rate < args.min_success:
       failed.append(name)
     if totals:

@@ -221,6 +221,35 @@ def test_preassembled_leaves_at_least_one_connection():
   assert env.task.state.num_groups == 2
 
 
+def test_the_last_part_start_leaves_one_part_loose_on_a_cycle():
+  """preassembled = parts - 1 joins every part but one: on the plank bench, whose seat,
+  end panels and stretcher form a cycle of connections, a random forest could leave two
+  groups of two; the loose part is one whose removal leaves the rest connected, never the
+  root (the seat, which everything is built onto)."""
+  furniture = "bench_plank_pine"
+  env = ikea_suite.load(furniture, "cursor", seed=4, preassembled=3)
+  spec = env.task.furniture.spec
+  table = env.task.furniture.connectors
+  names = [part.name for part in spec.parts]
+  choices = placement.last_part_choices(spec, table, placement.design_pairs(spec, table))
+  assert [names[i] for i in choices] == ["end0", "end1", "stretcher"]
+  loose_seen = set()
+  for _ in range(12):
+    env.reset()
+    state = env.task.state
+    groups = state.group_labels()
+    labels, counts = np.unique(groups, return_counts=True)
+    assert sorted(counts.tolist()) == [1, len(names) - 1]
+    assert len(state.connections) == len(names) - 2
+    loose_seen.add(names[int(np.flatnonzero(groups == labels[np.argmin(counts)])[0])])
+  assert loose_seen == {"end0", "end1", "stretcher"}
+  # A star of connections (a table's top and legs): only the legs can be last.
+  table_env = _load()
+  spec, table = table_env.task.furniture.spec, table_env.task.furniture.connectors
+  legs = [i for i, part in enumerate(spec.parts) if i != table_env.task.root_part]
+  assert placement.last_part_choices(spec, table, placement.design_pairs(spec, table)) == legs
+
+
 def test_spread_and_yaw_range():
   env = _load(spread=0.0, yaw_range=0.0)
   furniture = env.task.furniture

@@ -44,6 +44,9 @@ from ikea_suite import physics_settings
 from ikea_suite.batch import model as model_lib
 from ikea_suite.batch import weld_table as weld_table_lib
 from ikea_suite.props import model_format
+from ikea_suite.tasks import arm_placement
+from ikea_suite.tasks import placement
+from ikea_suite.tasks import planner
 
 # Parts carry this collision type and every bit but it in their affinity: they touch the
 # floor and the robot (default bits) and never one another.
@@ -161,19 +164,23 @@ def _record_layouts(env, count):
   return out
 
 
-def _last_part_from_above(spec, group, pos, rot):
-  """With one part loose whose design place is below the joined group's centre (a table's
-  or stool's last leg), the group turned over about the world x axis through its centre
-  and set on the floor, so the last part goes in from above (as the CPU placement lays a
-  root part whose mates attach from below; upright, a three-legged table tips over onto
-  the missing leg's corner). Other layouts are returned as they are."""
+def _last_part_from_above(spec, table, group, pos, rot):
+  """With one part loose and the root (tasks/planner.root_part) in the joined group, the
+  group turned over about the world x axis through its centre and set on the floor when
+  the CPU placement lays the root alone turned over (its mates attach from below:
+  tasks/arm_placement.mates_from_below), so that the group lies as the root would and the
+  last part goes in from above: a table's or stool's last leg (upright, a three-legged
+  table tips over onto the missing leg's corner), a bench's end or stretcher, which the
+  panel rack stands the way up it mates onto the turned-over seat
+  (tasks/panel_placement.upright_panels). Other layouts are returned as they are."""
   labels, counts = np.unique(group, return_counts=True)
   if len(labels) != 2 or counts.min() != 1:
     return pos, rot
   loose = int(np.flatnonzero(group == labels[np.argmin(counts)])[0])
   members = np.flatnonzero(group != group[loose])
-  design_z = np.array([p.pos[2] for p in spec.parts])
-  if design_z[loose] >= design_z[members].mean():
+  root = planner.root_part(spec)
+  rest = placement.resting_rotation(spec.parts[root].bounds)
+  if root == loose or not arm_placement.mates_from_below(spec, table, root, rest):
     return pos, rot
   flip = np.diag([1.0, -1.0, -1.0])
   centre = pos[members].mean(0)
@@ -200,7 +207,7 @@ def _layouts(records, table, welds, weld_eq, neq, spec=None):
     pos = qpos[:, :3]
     rot = np.array([model_lib._quat_mat(q) for q in qpos[:, 3:]])
     if spec is not None:
-      pos, rot = _last_part_from_above(spec, group, pos, rot)
+      pos, rot = _last_part_from_above(spec, table, group, pos, rot)
       qpos = np.concatenate([pos, [geometry.mat_to_quat(r) for r in rot]], axis=1)
     twist = alignment.align_pairs(*table.world_frames(pos, rot), table).twist
     active = np.zeros(neq, dtype=bool)

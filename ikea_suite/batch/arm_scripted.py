@@ -1,15 +1,17 @@
 """A batched scripted expert for a single arm's last-part task, as pure jax functions.
 
 The task: every part but one is joined (load option `preassembled` = parts - 1, so
-the CPU task's own placement lays the assembly and the loose part within reach); the
+the CPU task's own placement lays the assembly and the loose part within reach, a panel
+standing in the panel rack: tasks/placement.PartGroups, tasks/panel_placement.py); the
 expert takes the loose part from above, lifts it, turns and carries it so that it
 stands over its place on the assembly, lowers it in and connects. The CPU expert
 (experts/single_arm.py with top_down_grasp.py and mating.py) does the same one part at
 a time with more cases (clearance routes, regrasps, turning the assembly over); this
-one covers single parts that a top-down grasp across their long axis can carry to their
-mate in one motion: the legs of the catalog's tables and stools. (A bench's seat and end
-panels are wider than the Panda's opening, and its design's connections form a cycle, so
-that a start may leave two groups of two parts: see docs/batch.md.)
+one covers single parts that a top-down grasp across their longest horizontal axis can
+carry to their mate in one motion, going in from above: the legs of the catalog's
+tables and stools, lying on the floor, and the end panels and stretcher of a plank
+bench, standing in the rack and taken by their top edge (the assembly lies turned over,
+as the CPU placement lays its root: batch/arm_model.py).
 
 Per world it reads the privileged state (part poses, the task-space target, the tool
 pose) and keeps a small ExpertState (phase, step counter, the part's pose in the tool
@@ -17,7 +19,8 @@ frame measured when the fingers closed). Phases:
 
   REACH    open hand HOVER above the grasp point, pointing down, fingers across the
            part's long axis (over everything else until it is nearly above it)
-  DESCEND  down to the grasp point (fingertips just above the part's underside)
+  DESCEND  down to the grasp point (fingertips just above the part's underside, or
+           EDGE_GRIP below a standing panel's top edge)
   CLOSE    squeeze for CLOSE_STEPS
   LIFT     straight up to the carry height
   CARRY    move and turn at the carry height until the part is over its mate
@@ -27,11 +30,12 @@ frame measured when the fingers closed). Phases:
 A part that leaves the hand after CLOSE (missed, or dropped on the way) sends the world
 back to REACH.
 
-The grasp and the twist are chosen per world when its episode starts (choose): of four
-top-down grasps (either end of the part, the hand either way round) and the pair's
-allowed twists, the one whose tool pose above the mate the arm's IK reaches best from
-the grasp, joints clear of their ranges, as the CPU expert's choose_grasp_sign and
-plan_mating rank theirs (experts/mating.py).
+The grasp, the twist and the way round the held part turns are chosen per world when
+its episode starts (choose): of four top-down grasps (either side of the part's middle,
+the hand either way round), the pair's allowed twists and both ways round, the one whose
+tool pose above the mate the arm's IK reaches best from the grasp, joints clear of their
+ranges, as the CPU expert's choose_grasp_sign and plan_mating rank theirs
+(experts/mating.py).
 
 While carrying, the tool's command is the part's pose error applied to the tool (as
 batch/scripted.py steers the Cursor's part), so slip in the grip is corrected too; the
@@ -49,12 +53,16 @@ import numpy as np
 from ikea_suite.batch import arm_control
 from ikea_suite.batch import rigid
 from ikea_suite.batch import task_state
+from ikea_suite.experts import top_down_grasp
 from ikea_suite.tasks import placement as cpu_placement
 
 REACH, DESCEND, CLOSE, LIFT, CARRY, LOWER, INSERT = range(7)
 PHASES = ("reach", "descend", "close", "lift", "carry", "lower", "insert")
 HOVER = 0.06          # m above the grasp point the reach makes for
 TIP_CLEARANCE = 0.004  # m between the fingertips and the part's underside (or the floor)
+# A part standing TALL (m) or taller is taken by its top edge, the fingertips EDGE_GRIP (m)
+# below it: the CPU expert's rule, where the rack's fins leave that much of a panel free.
+TALL, EDGE_GRIP = top_down_grasp.TALL, top_down_grasp.EDGE_GRIP
 CLOSE_STEPS = 10      # control steps the fingers squeeze before lifting (0.5 s)
 CARRY_MARGIN = 0.04   # m of clearance under the carried part's lowest point
 APPROACH = 0.03       # m above the mated pose from which the part goes in
@@ -83,6 +91,9 @@ IK_STEP = 0.1
 REACH_ITERATIONS, LIFT_ITERATIONS, CARRY_ITERATIONS = 40, 20, 60
 ROTATION_MISS_WEIGHT = 0.1
 LIMIT_MARGIN = 0.3
+# m (with the rotation miss as above): a grasp whose hover the servo's path misses by more
+# is ruled out (see choose).
+HOVER_MISS = 0.05
 
 
 class Plan(typing.NamedTuple):
@@ -122,6 +133,8 @@ class ExpertState(typing.NamedTuple):
   chosen: jnp.ndarray      # bool: grasp and twist chosen (choose) for this episode
   grasp: jnp.ndarray       # int32: which of the four grasps across the part's long axis
   twist: jnp.ndarray       # int32: which of the pair's allowed twists the part mates at
+  turn: jnp.ndarray        # +1 / -1: the held part turns that way round about the world z
+                           # axis to its mate; 0: the shorter way (see choose)
 
 
 def _finger_geometry(env):
@@ -196,13 +209,12 @@ def initial_state():
   """The expert's memory at an episode's start."""
   return ExpertState(phase=jnp.int32(REACH), steps=jnp.int32(0), grip_pos=jnp.zeros(3),
                      grip_rot=jnp.eye(3), chosen=jnp.bool_(False), grasp=jnp.int32(0),
-                     twist=jnp.int32(0))
+                     twist=jnp.int32(0), turn=jnp.zeros(()))
 
 
 def loose_part(env, state):
-  """The part in the smallest group (the last part, outside the joined ones; it may be
-  the root part, such as a bench's seat laid beside its joined legs), or part 0 when all
-  are joined."""
+  """The part in the smallest group (the last part, outside the joined ones), or part 0
+  when all are joined."""
   group = state.task.group
   sizes = (group[:, None] == group[None, :]).sum(axis=1)
   return jnp.where(sizes.min() < sizes.max(), jnp.argmin(sizes), 0)
@@ -214,16 +226,26 @@ def _corners(pos, rot, center, half):
 
 
 def _grasps(plan_, home_rot, part_pos, part_rot, m):
-  """The four top-down grasps of part m lying at (part_pos, part_rot): tool positions
-  (4, 3) and rotations (4, 3, 3), pointing down with the fingers across the part's long
-  axis, GRIP_OFFSET of the half length from the centre away from the mate's connector
-  (grasps 0, 1) or towards it (2, 3), the odd ones turned half a turn about the vertical."""
+  """The four top-down grasps of part m lying or standing at (part_pos, part_rot): tool
+  positions (4, 3) and rotations (4, 3, 3), pointing down with the fingers across the
+  part's longest horizontal axis, GRIP_OFFSET of its half length from the centre away
+  from the mate's connector (grasps 0, 1) or towards it (2, 3), the odd ones turned half a
+  turn about the vertical. A part lying low (a leg) is taken as low as the fingertips
+  allow; one standing TALL or taller (a panel in the rack) by its top edge, the fingertips
+  EDGE_GRIP below it, across its thickness (as experts/top_down_grasp.py takes them)."""
   center, half = plan_.center[m], plan_.half[m]
-  long_local = jnp.zeros(3).at[jnp.argmax(half)].set(1.0)
-  low = jnp.maximum(jnp.min(_corners(part_pos, part_rot, center, half)[:, 2]), 0.0)
-  points = jnp.stack([part_pos + rigid.apply(part_rot, center + side * plan_.away[m] * half
+  corners_z = _corners(part_pos, part_rot, center, half)[:, 2]
+  low = jnp.maximum(jnp.min(corners_z), 0.0)
+  top = jnp.max(corners_z)
+  # Each part axis's horizontal extent as it lies now: a leg's long axis, a standing
+  # panel's length (its height, though longer, is vertical).
+  long = jnp.argmax(half * jnp.linalg.norm(part_rot[:2, :], axis=0))
+  long_local = jnp.zeros(3).at[long].set(1.0)
+  away = long_local * jnp.where(plan_.away[m][long] < 0, -1.0, 1.0)
+  points = jnp.stack([part_pos + rigid.apply(part_rot, center + side * away * half
                                              * GRIP_OFFSET) for side in (1.0, -1.0)])
-  points = points.at[:, 2].set(low + plan_.pad_below + TIP_CLEARANCE)
+  tips = jnp.where(top - low >= TALL, top - EDGE_GRIP, low + TIP_CLEARANCE)
+  points = points.at[:, 2].set(tips + plan_.pad_below)
   long_world = rigid.apply(part_rot, long_local)
   across = jnp.array([-long_world[1], long_world[0], 0.0])
   across = across / jnp.maximum(jnp.linalg.norm(across), 1e-9)
@@ -300,15 +322,26 @@ def _reach_cost(env, q, pos, rot):
   return miss + jnp.maximum(0.0, LIMIT_MARGIN - margin).sum()
 
 
+def _yaw(rot):
+  """Angle (rad, in (-pi, pi]) about the world z axis of a rotation that is mostly one
+  about it (between two poses of a hand pointing down)."""
+  return jnp.arctan2(rot[1, 0] - rot[0, 1], rot[0, 0] + rot[1, 1])
+
+
 def choose(env, plan_, state):
-  """(grasp, twist) of one world: of the four grasps of the loose part and the pair's
-  allowed twists, the pair the arm reaches best. The servo's path is followed by IK as
+  """(grasp, twist, turn) of one world: of the four grasps of the loose part, the pair's
+  allowed twists and the two ways round the held part may turn about the vertical on its
+  way to the mate, the choice the arm reaches best. The servo's path is followed by IK as
   act's phases go: from the present joints to the hover above the grasp, up to the carry
-  height, over to the point above the mate turned to that twist, and down to the tool
-  pose that holds the part APPROACH above its mated pose (the grip the grasp makes);
-  reach_cost at the hover, over the mate and at the approach ranks them. A twist that
-  turns the part upright on the far side of the wrist's range ends short with the wrist
-  at its limit, as the carry did before the choice was made.
+  height, over to the point above the mate turned to that twist (the chosen way round:
+  first to halfway), and down to the tool pose that holds the part APPROACH above its
+  mated pose (the grip the grasp makes); reach_cost at the hover, over the mate and at
+  the approach ranks them. A twist that turns the part upright on the far side of the
+  wrist's range ends short with the wrist at its limit, as the carry did before the
+  choice was made; so did a panel taken from the rack beside the base and turned the
+  shorter way round to its mate in front of it. A grasp whose hover the path misses by
+  more than HOVER_MISS is ruled out while another's is reached: the hand never comes
+  down there, however well the rest of its path goes.
 
   Args:
     env: the BatchArmAssembly.
@@ -316,7 +349,8 @@ def choose(env, plan_, state):
     state: the world's arm_env.State.
 
   Returns:
-    (grasp index (0 to 3, see _grasps), twist index), int32 scalars.
+    (grasp index (0 to 3, see _grasps), twist index), int32 scalars, and the way round the
+    part turns about the world z axis to its mate (+1, -1; 0: the shorter way).
   """
   am = env.arm_model
   m = loose_part(env, state)
@@ -327,7 +361,11 @@ def choose(env, plan_, state):
   hovers = points + jnp.array([0.0, 0.0, HOVER])
   q = state.data.qpos[jnp.asarray(am.arm_qpos)]
 
-  def cost(g, k):
+  def turn(start, end, way):   # the signed turn about z from start to end: the shorter
+    short = _yaw(end @ start.T)   # way round (way 0) or the other
+    return jnp.where(way == 1, short - 2 * jnp.pi * jnp.sign(short), short)
+
+  def cost(g, k, v):
     grip_pos = rigid.apply(part_rot[m].T, points[g] - part_pos[m])
     grip_rot = part_rot[m].T @ grasp_rots[g]
     tool_rot = goal_rots[k] @ grip_rot
@@ -336,18 +374,36 @@ def choose(env, plan_, state):
     _, carry_z = _heights(plan_, part_pos, part_rot, m, goal_pos[k], goal_rots[k])
     lift = points[g].at[2].add(carry_z - part_pos[m][2])
     high = tool_pos.at[2].add(jnp.maximum(carry_z - above[2], 0.0))
-    pos = jnp.stack([hovers[g], lift, high, tool_pos])
-    rot = jnp.stack([grasp_rots[g], grasp_rots[g], tool_rot, tool_rot])
-    ends = _servo_path(env, q, pos, rot, (REACH_ITERATIONS, LIFT_ITERATIONS, CARRY_ITERATIONS,
+    carry_turn = turn(grasp_rots[g], tool_rot, v)
+    halfway = jnp.where(v == 1, rigid.rot_z(carry_turn / 2) @ grasp_rots[g], tool_rot)
+    pos = jnp.stack([hovers[g], lift, high, high, tool_pos])
+    rot = jnp.stack([grasp_rots[g], grasp_rots[g], halfway, tool_rot, tool_rot])
+    ends = _servo_path(env, q, pos, rot, (REACH_ITERATIONS, LIFT_ITERATIONS,
+                                          CARRY_ITERATIONS // 2, CARRY_ITERATIONS,
                                           LIFT_ITERATIONS))
-    return sum(_reach_cost(env, ends[i], pos[i], rot[i]) for i in (0, 2, 3))
+    costs = [_reach_cost(env, ends[i], pos[i], rot[i]) for i in (0, 3, 4)]
+    return sum(costs), costs[0] > HOVER_MISS, jnp.where(v == 1, jnp.sign(carry_turn), 0.0)
 
   grasps = jnp.arange(points.shape[0])
   twists = jnp.arange(plan_.twists.shape[1])
-  costs = jax.vmap(lambda g: jax.vmap(lambda k: cost(g, k))(twists))(grasps)   # (4, t)
-  costs = jnp.where(plan_.twist_valid[m][None], costs, jnp.inf)
-  best = jnp.argmin(costs.ravel())
-  return (best // twists.shape[0]).astype(jnp.int32), (best % twists.shape[0]).astype(jnp.int32)
+  ways = jnp.arange(2)
+  costs, missed, turns = jax.vmap(lambda g: jax.vmap(lambda k: jax.vmap(
+      lambda v: cost(g, k, v))(ways))(twists))(grasps)   # (4, t, 2)
+  valid = plan_.twist_valid[m][None, :, None]
+  costs = jnp.where(valid, costs, jnp.inf)
+  costs = jnp.where(missed & ~jnp.all(missed | ~valid), jnp.inf, costs)
+  best = jnp.unravel_index(jnp.argmin(costs.ravel()), costs.shape)
+  return best[0].astype(jnp.int32), best[1].astype(jnp.int32), turns[best]
+
+
+def _turning(rot, goal_rot, way):
+  """The rotation to steer `rot` towards on its way to `goal_rot`, turning about the world
+  z axis the way round `way` says (+1, -1; 0: the shorter way, goal_rot itself): while
+  the shorter way turns more than a quarter turn against it, a quarter turn ahead that
+  way."""
+  short = _yaw(goal_rot @ rot.T)
+  against = (way != 0) & (jnp.sign(short) != way) & (jnp.abs(short) > jnp.pi / 2)
+  return jnp.where(against, rigid.rot_z(way * jnp.pi / 2) @ rot, goal_rot)
 
 
 def _toward(targets, pos, rot, max_translation, max_rotation, gain=1.0):
@@ -397,7 +453,7 @@ def act(env, plan_, expert, state):
   # Carry at the carry height until over the mate (CARRY), then down to `above` (LOWER).
   horizontal = jnp.linalg.norm((part_pos[m] - above)[:2])
   high = above.at[2].set(jnp.maximum(above[2], carry_z))
-  carry_tool = tool_for(high, goal_rot)
+  carry_tool = tool_for(high, _turning(part_rot[m], goal_rot, expert.turn))
   lower_tool = tool_for(above, goal_rot)
   # The open hand goes over everything else before it comes down to the hover: reaching
   # straight for it, the fingers swept through the legs standing on the assembly and
@@ -475,10 +531,11 @@ def batched_policy(env, plan_):
   choice runs only in steps where some world needs it."""
 
   def pick(expert, state):
-    grasp, twist = jax.vmap(lambda s: choose(env, plan_, s))(state)
+    grasp, twist, turn = jax.vmap(lambda s: choose(env, plan_, s))(state)
     keep = expert.chosen
     return expert._replace(chosen=jnp.ones_like(keep), grasp=jnp.where(keep, expert.grasp, grasp),
-                           twist=jnp.where(keep, expert.twist, twist))
+                           twist=jnp.where(keep, expert.twist, twist),
+                           turn=jnp.where(keep, expert.turn, turn))
 
   def policy(expert, state):
     expert = jax.lax.cond(jnp.all(expert.chosen), lambda e, s: e, pick, expert, state)

@@ -11,6 +11,7 @@ import numpy as np
 from dm_control import composer
 
 from ikea_suite import geometry
+from ikea_suite.tasks import planner
 from ikea_suite.tasks import resting
 
 CLEARANCE = 0.15   # m from the assembled furniture's radius to the ring parts lie in
@@ -69,10 +70,15 @@ class PartGroups:
   curriculum, groups of parts already connected.
 
   `preassembled` is an inclusive (low, high) range of connection counts drawn each
-  episode. The connections are a random forest of the connections of the assembled
-  design; each resulting group keeps its assembled shape, upright. The count is capped at
-  parts - 2 so at least one connection remains. The chosen connector pairs are left in
-  `preassembled_pairs` for the task to weld.
+  episode, capped at parts - 2 so at least one connection remains. Below the cap the
+  connections are a random forest of the connections of the assembled design. At the
+  cap (the last-part start: every part but one joined) one part is left loose, drawn
+  among those whose removal leaves the rest of the design connected, the root
+  (planner.root_part, the part everything is built onto) excepted, and the rest is joined
+  by a random spanning tree of its design connections: for a design whose connections
+  form a cycle (a bench's seat, ends and stretcher) a forest could leave two groups of
+  two parts. Each resulting group keeps its assembled shape, upright. The chosen
+  connector pairs are left in `preassembled_pairs` for the task to weld.
   """
 
   def __init__(self, furniture, preassembled):
@@ -125,15 +131,54 @@ class PartGroups:
       return [[i] for i in range(num_parts)]
     count = min(int(random_state.randint(low, high + 1)), max(num_parts - 2, 0))
     table = self._furniture.connectors
+    order = random_state.permutation(self._design_pairs)
+    loose = None
+    if num_parts >= 2 and count == num_parts - 2:
+      choices = last_part_choices(self._furniture.spec, table, self._design_pairs)
+      if choices:
+        loose = choices[int(random_state.randint(len(choices)))]
     group = list(range(num_parts))
-    for pair in random_state.permutation(self._design_pairs):
+    for pair in order:
       if len(self._preassembled_pairs) >= count:
         break
-      a, b = group[table.part[table.pair_a[pair]]], group[table.part[table.pair_b[pair]]]
-      if a != b:
+      part_a, part_b = int(table.part[table.pair_a[pair]]), int(table.part[table.pair_b[pair]])
+      a, b = group[part_a], group[part_b]
+      if a != b and loose not in (part_a, part_b):
         group = [a if g == b else g for g in group]
         self._preassembled_pairs.append(int(pair))
     return [[i for i in range(num_parts) if group[i] == g] for g in sorted(set(group))]
+
+
+def last_part_choices(spec, table, pairs):
+  """Parts that may be the last one in a last-part start: those whose removal leaves the
+  other parts connected by the design's connections (`pairs`, indices into `table`'s
+  candidate pairs), the root (planner.root_part) excepted.
+
+  Returns:
+    Sorted part indices; empty when the design's connections do not join every part.
+  """
+  num_parts = len(spec.parts)
+  edges = [(int(table.part[table.pair_a[k]]), int(table.part[table.pair_b[k]])) for k in pairs]
+
+  def connected(parts):
+    parts = set(parts)
+    if not parts:
+      return True
+    seen, stack = set(), [min(parts)]
+    while stack:
+      part = stack.pop()
+      if part in seen:
+        continue
+      seen.add(part)
+      stack.extend(b if a == part else a for a, b in edges
+                   if part in (a, b) and a in parts and b in parts)
+    return seen == parts
+
+  if not connected(range(num_parts)):
+    return []
+  root = planner.root_part(spec)
+  return [i for i in range(num_parts)
+          if i != root and connected(set(range(num_parts)) - {i})]
 
 
 class ScatteredParts(PartInitializer):
