@@ -12,8 +12,8 @@ ik_qp.py): the tool's position error (cost 1) and rotation error (cost 0.5), a p
 term towards home (cost 1e-2), Levenberg-Marquardt damping 1e-3, a joint velocity
 limit of VELOCITY_LIMIT rad/s over the control step and the joint ranges the CPU IK
 keeps in (physical limits with the robot's IK_WORKING_RANGES). It differs in how: the
-damped least-squares step is solved with the joint ranges as a box (`box_qp`: a fixed
-number of active-set passes, each in closed form, so that a joint held at its range
+damped least-squares step is solved with the joint ranges as a box (`box_qp`: active-set
+passes, each in closed form, until the active set holds, so that a joint held at its range
 leaves the rest of the motion to the other joints, as the exact QP does; clipping the
 unconstrained step instead stalled the tool where the shoulder met its range), then
 scaled down as a whole to meet the velocity limit, where the CPU solves one QP with both
