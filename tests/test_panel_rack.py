@@ -11,6 +11,7 @@ from ikea_suite.experts import mating
 from ikea_suite.experts import part_geometry
 from ikea_suite.experts import single_arm
 from ikea_suite.props import panel_rack
+from ikea_suite.robots import grippers
 from ikea_suite.tasks import panel_placement
 from tests import helpers
 
@@ -125,12 +126,47 @@ def test_a_wide_panel_that_lies_flat_in_the_furniture_stands_on_its_long_edge(fu
   assert abs(assembled[2, thin]) > 0.99   # and lies flat once assembled
 
 
-def test_walls_in_the_rack_fit_fingers_that_close_fully_and_are_too_thin_for_the_baxter():
+def test_walls_in_the_rack_fit_fingers_that_close_fully_and_are_too_thin_for_slot_2(
+    monkeypatch):
   assert gripper_fit.grasp_problems(_env()) == []
-  assert gripper_fit.grasp_problems(_env(robot="sawyer")) == []   # its fingers one slot in
+  for robot in ("sawyer", "baxter"):   # their fingers one slot in
+    assert gripper_fit.grasp_problems(_env(robot=robot)) == []
+  # In the descriptions' default slot the closed fingertips stay 14 mm apart.
+  monkeypatch.setattr(grippers, "RETHINK_SLOT_1", grippers.RETHINK)
   problems = gripper_fit.grasp_problems(_env(robot="baxter"))
   assert sorted(p.part for p in problems) == WALLS
   assert all("narrower than the closed" in str(p) for p in problems)
+
+
+@pytest.mark.parametrize("furniture", ["box_open_small_white", "bench_plank_pine"])
+def test_a_two_arm_robot_gets_a_rack_each_side_holding_that_sides_panels(furniture):
+  # One rack on one side of the Baxter's torso was out of the other arm's reach.
+  env = _env(furniture, robot="baxter")
+  initializer = env.task.initializer
+  groups = initializer.rack_groups
+  assert len(initializer.fixtures) == len(groups) == 2
+  assert sorted(i for group in groups for i in group) == sorted(initializer.racked_parts)
+  positions, _ = env.task.furniture.part_poses(env.physics)
+  base_pos, base_rot = env.task.robot.base_pose
+
+  def across(point):   # metres left of the torso's heading
+    return (base_rot.T @ (point - base_pos))[1]
+
+  root = positions[initializer.root_part]
+  placed = {i: across(part_geometry.assembled_pose(
+      env.physics, env.task.furniture, initializer.root_part, i)[0]) - across(root)
+            for i in initializer.racked_parts}
+  middle = 0.25 * max(abs(y) for y in placed.values())
+  sides = []
+  for group, rack in zip(groups, initializer.fixtures):
+    side = np.sign(across(env.physics.bind(rack.mjcf_model.worldbody).xpos))
+    assert all(np.sign(across(positions[i])) == side for i in group)
+    # Each panel's place in the furniture is on its rack's side, or across the middle.
+    assert all(placed[i] * side >= -middle for i in group)
+    sides.append(side)
+  assert sorted(sides) == [-1, 1]
+  # A single arm keeps one rack.
+  assert len(_env(furniture, robot="sawyer").task.initializer.fixtures) == 1
 
 
 def test_a_round_seat_standing_in_the_rack_is_taken_across_its_thickness():

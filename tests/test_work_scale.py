@@ -8,6 +8,7 @@ import ikea_suite
 from ikea_suite.experts import below_work_scale
 from ikea_suite.experts import gripper_fit
 from ikea_suite.experts import work_scale
+from ikea_suite.robots import grippers
 
 
 def test_stools_and_bookcases_stay_at_the_work_scale_and_beds_get_their_fit():
@@ -29,20 +30,26 @@ def test_fit_scale_is_the_largest_at_which_every_loose_part_fits():
   assert work_scale.fit_scale("panda", "bookcase_shelf_unit_billy") == 0.5
 
 
-def test_a_racked_plank_bench_fits_fingers_that_close_fully_and_never_the_baxter():
+def test_a_racked_plank_bench_fits_fingers_that_close_fully_and_never_slot_2(monkeypatch):
   # Lying flat, its 300-330 mm ends fitted the open fingers only at about 0.2. Racked,
   # its ends and its 10 mm stretcher are taken across their thickness: the Panda's
-  # fingers close fully, and so do the Sawyer's one slot in; the Baxter's, in the
-  # sheet's slot, stop 14 mm apart.
-  for robot in ("panda", "sawyer"):
+  # fingers close fully, and so do the Sawyer's and the Baxter's one slot in; in the
+  # sheet's slot they stop 14 mm apart.
+  for robot in ("panda", "sawyer", "baxter"):
     assert work_scale.fit_scale(robot, "bench_plank_pine") == 0.5
     assert work_scale.work_scale(robot, "bench_plank_pine") == 0.5
+  monkeypatch.setattr(grippers, "RETHINK_SLOT_1", grippers.RETHINK)
   assert work_scale.fit_scale("baxter", "bench_plank_pine") is None
 
 
-def test_no_scale_fits_a_chair_seat_and_a_fitting_model_keeps_the_work_scale():
-  assert work_scale.fit_scale("baxter", "chair_back_ivar") is None
+def test_no_scale_fits_a_chair_in_slot_2_and_a_fitting_model_keeps_the_work_scale(
+    monkeypatch):
+  # The chair's thin parts slip between fingers stopped 14 mm apart at every scale; one
+  # slot in, the fingers meet and the chair fits at the work scale.
+  assert work_scale.fit_scale("baxter", "chair_back_ivar") == 0.5
   assert work_scale.fit_scale("baxter", "stool_round_frosta") == 0.5
+  monkeypatch.setattr(grippers, "RETHINK_SLOT_1", grippers.RETHINK)
+  assert work_scale.fit_scale("baxter", "chair_back_ivar") is None
 
 
 def test_a_bench_end_is_held_away_from_its_connectors_below_the_work_scale():

@@ -203,7 +203,9 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None, start=No
   desk_trestle_w100_birch); with no other mate left the part is
   set down and taken the other way. With `carry_top` (the nominal carry height), a mate
   where the part would stand in a later racked part's carry, too tall to be passed over
-  (in_a_later_carry), costs 1. None when no mate is open.
+  (in_a_later_carry), costs 1, and so does a mate on the other side for a part from one
+  of a two-arm robot's racks (part_geometry.nearer_another_rack). None when no mate is
+  open.
   """
   task, physics, robot = env.task, env.physics, env.task.robot
   table, state = task.furniture.connectors, task.state
@@ -233,7 +235,8 @@ def plan_mating(env, arm, moving, approach, failed_plans=(), grip=None, start=No
           env.control_timestep(), arm_motion.CARRY_TURN)) + 2.0 * cramped
                + 10.0 * in_the_way + nearby * np.linalg.norm(goal_pos[:2] - part_xy)
                + 1.0 * (carry_top is not None and in_a_later_carry(
-                   env, moving, pair, part_pos, part_rot, carry_top)))
+                   env, moving, pair, part_pos, part_rot, carry_top))
+               + 1.0 * part_geometry.nearer_another_rack(task, physics, moving, part_pos))
       if best is None or score < best[0]:
         best = (score, int(pair), float(twist))
   return best

@@ -88,6 +88,23 @@ def root_group(task):
   return np.flatnonzero(labels == labels[task.root_part])
 
 
+def nearer_another_rack(task, physics, part, point):
+  """Whether `point` (world, xy used) lies nearer another panel rack than the one `part`
+  stands in: with a two-arm robot's two racks, one each side
+  (tasks/panel_placement.split_by_side), a mate on the other arm's side. Mates on its
+  own side go first: a box wall from the left rack went to the far, right mate, and the
+  right arm's wall then had to cross to the left one, out of reach. False with one rack
+  or for a part in none."""
+  groups = task.initializer.rack_groups
+  mine = next((k for k, group in enumerate(groups) if part in group), None)
+  if len(groups) < 2 or mine is None:
+    return False
+  centres = [physics.bind(rack.mjcf_model.worldbody).xpos[:2]
+             for rack in task.initializer.fixtures]
+  distances = [np.linalg.norm(np.asarray(point)[:2] - centre) for centre in centres]
+  return bool(min(distances) < distances[mine])
+
+
 def part_radius(furniture, part):
   """Radius of a sphere about the part's origin that holds all its collision geometry."""
   lo, hi = furniture.spec.parts[part].bounds

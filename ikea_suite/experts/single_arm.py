@@ -82,6 +82,8 @@ class ArmAssemblyController:
     release_steps: control steps the fingers take to open.
     stall_steps: control steps a reach may take before the part is given up.
     insert_steps: control steps an insertion may take before the mate is given up.
+    edge_lift_speed: fraction of the arm's top speed at which a panel held by its top edge
+      is lifted (1: full speed, as every part).
 
   Raises:
     IkeaSuiteError: the robot's control mode is not one of CONTROL_MODES.
@@ -91,7 +93,8 @@ class ArmAssemblyController:
   CONTROL_MODES = control_modes.DELTA_TARGETS
 
   def __init__(self, env, arm=0, hover=0.12, lift=0.12, carry=0.5, approach=0.08, tolerance=0.9,
-               close_steps=8, release_steps=6, stall_steps=150, insert_steps=40):
+               close_steps=8, release_steps=6, stall_steps=150, insert_steps=40,
+               edge_lift_speed=1.0):
     robot = env.task.robot
     if robot.control_mode not in self.CONTROL_MODES:
       raise errors.IkeaSuiteError(
@@ -106,6 +109,7 @@ class ArmAssemblyController:
         robot.arms[arm].gripper.close_time / env.control_timestep())))
     self._close_steps, self._release_steps = close_steps, release_steps
     self._stall_steps, self._insert_steps = stall_steps, insert_steps
+    self._edge_lift_speed = edge_lift_speed
     # Carry and clearance heights count from the surface the parts lie on (floor or table top).
     self._surface = env.task.arena.support.height
     self._clearance = clearance.AssemblyClearance(env, arm, self._surface)
@@ -317,7 +321,8 @@ class ArmAssemblyController:
     straight up is out of reach for a part at the edge of the work area."""
     robot, physics, arm = self._robot, self._env.physics, self._arm
     goal = self._grasp[0] + [0.0, 0.0, self._lift]
-    command.tool[:] = self._servo(robot, physics, arm, goal, self._grasp[1])
+    command.tool[:] = self._servo(robot, physics, arm, goal, self._grasp[1],
+                                  max_speed=self._edge_lift_speed if self._hanging else 1.0)
     self._counter += 1
     if (arm_motion.pose_error(robot, physics, arm, goal, self._grasp[1])[0] < 0.03
         or self._counter > self._close_steps + 40):   # as high as it goes: carry on

@@ -20,7 +20,7 @@ from ikea_suite.props import scaling
 # cabinet sides and headboards upright, and stands a wide panel that lies flat in the
 # furniture (a carcass's far side, a wide lid or shelf) on its long edge: they are taken
 # across their thickness, so the bookcases, cabinets, lidded boxes, slatted benches and
-# TV benches fit both grippers at 0.5. The Sawyer's fingers, one slot in
+# TV benches fit both grippers at 0.5. The Sawyer's and the Baxter's fingers, one slot in
 # (grippers.RETHINK_SLOT_1), meet when closed and open to 60 mm; the slatted beds' side
 # rails need a smaller scale.
 _SLATTED_BEDS = tuple(f"bed_slatted_{v}" for v in (
@@ -28,6 +28,7 @@ _SLATTED_BEDS = tuple(f"bed_slatted_{v}" for v in (
     "toddler_white"))
 SMALL_SCALES = {
     "sawyer": dict.fromkeys(_SLATTED_BEDS, 0.32),
+    "baxter": dict.fromkeys(_SLATTED_BEDS, 0.32),
     "panda": dict.fromkeys(_SLATTED_BEDS, 0.44),
 }
 

@@ -1,4 +1,5 @@
-"""Rethink Baxter: two 7-DoF arms on a torso, a Rethink electric gripper on each.
+"""Rethink Baxter: two 7-DoF arms on a torso, a Rethink electric gripper on each (fingers
+in slot 1).
 
 Torso on the floor at (-0.6, 0, 0.06) facing +x. The action covers both
 arms, right arm first: each arm's entries are prefixed `right_` / `left_`.
@@ -49,7 +50,13 @@ class Baxter(manipulator.Manipulator):
     arms = []
     for side, y in (("right", -1.0), ("left", 1.0)):
       joints = [f"{side}_{s}" for s in _JOINT_SUFFIXES]
-      gripper = grippers.build(elements[f"{side}_hand"], grippers.RETHINK, prefix=f"{side}_")
+      # Fingers in the gripper's narrowest slot, as on the Sawyer (grippers.RETHINK_SLOT_1):
+      # in slot 2 the closed fingertips stay 14 mm apart, and box walls, bench ends,
+      # stretchers and panels 4-15 mm thick slipped out as soon as they were lifted. At the
+      # half scale it works at, every loose part of the stools and tables it assembles
+      # (17.5-25 mm legs) fits slot 1's 60 mm opening with room to spare.
+      gripper = grippers.build(elements[f"{side}_hand"], grippers.RETHINK_SLOT_1,
+                               prefix=f"{side}_")
       arms.append(manipulator.Arm(
           prefix=f"{side}_", joints=[root.find("joint", j) for j in joints],
           torque_limits=np.array([limits[j][1] for j in joints]), gripper=gripper,

@@ -71,7 +71,8 @@ class ReachableParts(placement.PartInitializer):
     support: the arenas.support.Support the parts lie on (default: the floor).
     arms: the robot's arms; with two, the loose parts alternate between the halves of the
       sector either side of the heading (the first half drawn at random), so each arm
-      has parts on its own side to bring.
+      has parts on its own side to bring, and the racked panels stand in two racks, one
+      in each half (tasks/panel_placement.split_by_side).
     side_reach: (bearing, metres): beyond that bearing from the heading, loose parts lie
       out to that distance instead of `reach`; None: `reach` at every bearing.
     home_footprint: the robot at its home pose seen from above (base.ReachZone's: per
@@ -124,6 +125,16 @@ class ReachableParts(placement.PartInitializer):
           f"across) does not fit on the work table ({2 * min(support.half_size):.2f} m); "
           f"use a smaller scale")
     self._racked = panel_placement.RackedPanels(spec, self._root, self._root_rest)
+    # [(side, RackedPanels)]: one rack, on a side drawn at random (side None), or for two
+    # arms one each side of the heading (tasks/panel_placement.split_by_side).
+    self._racks = [(None, self._racked)] if self._racked.rack is not None else []
+    if arms == 2 and len(self._racked.parts) > 1:
+      self._racks = [
+          (side, panel_placement.RackedPanels(
+              spec, self._root, self._root_rest, only=parts,
+              name="panel_rack_" + ("left" if side > 0 else "right")))
+          for side, parts in panel_placement.split_by_side(
+              spec, self._root, self._root_rest, self._racked.parts)]
     # Where the parts start: lying parts as ScatteredParts lays them, the root as it lies here.
     self._rests = dict(self._groups.rests)
     self._rests.update(resting.rests_on_support(spec, {self._root: self._root_rest}))
@@ -147,13 +158,18 @@ class ReachableParts(placement.PartInitializer):
 
   @property
   def fixtures(self):
-    """Static entities the task attaches to the arena: the panel rack, if any panel stands."""
-    return [self._racked.rack] if self._racked.rack is not None else []
+    """Static entities the task attaches to the arena: the panel racks, if any panel stands."""
+    return [racked.rack for _, racked in self._racks]
 
   @property
   def racked_parts(self):
-    """Indices of the parts that stand in the panel rack (when not preassembled)."""
+    """Indices of the parts that stand in a panel rack (when not preassembled)."""
     return self._racked.parts
+
+  @property
+  def rack_groups(self):
+    """The racked parts (indices) of each rack, one list per rack, in `fixtures`' order."""
+    return [racked.parts for _, racked in self._racks]
 
   @property
   def root_part(self):
@@ -214,14 +230,15 @@ class ReachableParts(placement.PartInitializer):
     self._place(physics, root_item, yaw_rot, xy)
     placed = [(xy, radius)]
     racked = set(self.racked_parts) & {item[0][0] for item in items if len(item) == 1}
-    if self._racked.rack is not None:   # the rack across a radius from the base, in the band
-      radius = self._racked.radius
-      xy = self._sample_xy(random_state, radius, placed, self._racked.height, reach=np.sqrt(max(
-          0.0, (self._reach - panel_placement.RACK_SPARE) ** 2 - self._racked.farthest_slot ** 2)))
+    for side, racked_panels in self._racks:   # each across a radius from the base, in the band
+      radius = racked_panels.radius
+      xy = self._sample_xy(random_state, radius, placed, racked_panels.height, reach=np.sqrt(max(
+          0.0, (self._reach - panel_placement.RACK_SPARE) ** 2
+          - racked_panels.farthest_slot ** 2)), side=side)
       away = xy - self._base_xy
-      self._racked.place(physics, self._furniture, xy, np.arctan2(away[1], away[0]) + np.pi / 2,
-                         self._support.height, random_state,
-                         skip=set(self.racked_parts) - racked)
+      racked_panels.place(physics, self._furniture, xy, np.arctan2(away[1], away[0]) + np.pi / 2,
+                          self._support.height, random_state,
+                          skip=set(self.racked_parts) - racked)
       placed.append((xy, radius))
     # Drawn at random, all of a stool's legs lay on one side of Baxter's torso in 1 of
     # 8 episodes, and one arm did all the work.

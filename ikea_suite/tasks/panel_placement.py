@@ -15,6 +15,11 @@ slot on its long edge, so that a gripper takes it across its thickness by that e
 and turns it flat on the way to its mate (experts/top_down_grasp.py). A round panel
 (a disc: a round seat, a round table top) stands in a slot with chocks
 (props/panel_rack.py).
+
+A two-arm robot gets two racks, one each side of its heading, each holding the
+panels that stand on its side of the furniture (split_by_side): one rack on one
+side of the Baxter's torso was out of the other arm's reach, and one arm did all
+the work. The placement is the same for a learner as for the expert.
 """
 
 import numpy as np
@@ -61,17 +66,25 @@ def is_disc(part, thin_axis):
   return False
 
 
-def upright_panels(spec, root, root_rest):
-  """[(part, rotation)] of the parts to rack: each panel's world rotation in the furniture
-  assembled onto the root lying at `root_rest` (3, 3) (turned over, for a panel under
-  the root; stood on its long edge, for a wide one lying flat there), turned about z so
-  that its thickness lies along x (the rack's row)."""
+def _design_to_world(spec, root, root_rest):
+  """The rotation from the furniture's design frame to the world, the root lying at
+  `root_rest`, and a test whether a part hangs below the root lying so (goes in once the
+  assembly is turned over)."""
   design_to_world = root_rest @ spec.parts[root].rot.T
 
   def lowest(part):
     return (part.assembled_corners() @ design_to_world.T)[:, 2].min()
 
   root_bottom = lowest(spec.parts[root])
+  return design_to_world, lambda part: lowest(part) < root_bottom - UNDER
+
+
+def upright_panels(spec, root, root_rest):
+  """[(part, rotation)] of the parts to rack: each panel's world rotation in the furniture
+  assembled onto the root lying at `root_rest` (3, 3) (turned over, for a panel under
+  the root; stood on its long edge, for a wide one lying flat there), turned about z so
+  that its thickness lies along x (the rack's row)."""
+  design_to_world, under = _design_to_world(spec, root, root_rest)
   out = []
   for index, part in enumerate(spec.parts):
     extents = part.bounds[1] - part.bounds[0]
@@ -79,7 +92,7 @@ def upright_panels(spec, root, root_rest):
     if index == root or not is_panel(extents):
       continue
     rot = design_to_world @ part.rot
-    if lowest(part) < root_bottom - UNDER:   # goes in once the assembly is turned over
+    if under(part):   # goes in once the assembly is turned over
       rot = geometry.HALF_TURN_X @ rot
     normal = rot[:, order[0]]
     if abs(normal[2]) > 0.5:   # lies flat when assembled
@@ -92,6 +105,38 @@ def upright_panels(spec, root, root_rest):
     if np.ptp((geometry.box_corners(*part.bounds) @ rot.T)[:, 2]) >= MIN_HEIGHT:
       out.append((index, rot))
   return out
+
+
+def split_by_side(spec, root, root_rest, parts):
+  """The racked `parts` of a two-arm robot in two racks, one each side of its heading:
+  [(side, parts)], side +1 for the left and -1 for the right. Each panel goes to the
+  side of the root's centre where it stands in the furniture assembled onto the root
+  lying at `root_rest` (its side after the turn-over, for a panel under the root), so
+  that each arm carries its panels from its own side to mates on that side. Panels
+  across the middle (a box's front and back walls, a bench's stretcher) even the racks
+  up, and a rack left empty takes the panel nearest the middle from the other: with
+  all of a box's walls in one rack the other arm never worked. A side with no panel is
+  left out."""
+  design_to_world, under = _design_to_world(spec, root, root_rest)
+  root_centre = spec.parts[root].pos
+  across = {}
+  for index in parts:
+    part = spec.parts[index]
+    y = (design_to_world @ (part.pos - root_centre))[1]
+    across[index] = -y if under(part) else y   # the half turn about x turns y round
+  middle = 0.25 * max([abs(y) for y in across.values()], default=0.0)
+  sides = {index: 0 if abs(y) <= middle else int(np.sign(y)) for index, y in across.items()}
+  for index in sorted((i for i in parts if sides[i] == 0), key=lambda i: abs(across[i])):
+    left = sum(side == 1 for side in sides.values())
+    right = sum(side == -1 for side in sides.values())
+    sides[index] = 1 if left < right or left == right and across[index] >= 0 else -1
+  for side in (1, -1):
+    mine = [i for i in parts if sides[i] == side]
+    theirs = [i for i in parts if sides[i] == -side]
+    if not mine and len(theirs) > 1:
+      sides[min(theirs, key=lambda i: abs(across[i]))] = side
+  return [(side, [i for i in parts if sides[i] == side]) for side in (1, -1)
+          if any(sides[i] == side for i in parts)]
 
 
 def slot_sizes(spec, panels):
@@ -114,15 +159,18 @@ class RackedPanels:
     spec: the furniture's spec.
     root: the root part's index.
     root_rest: the root's resting rotation (3, 3) before its yaw.
+    only: the racked parts this rack holds (split_by_side); None: every one.
+    name: the rack's model name.
   """
 
-  def __init__(self, spec, root, root_rest):
+  def __init__(self, spec, root, root_rest, only=None, name="panel_rack"):
     self._spec = spec
-    self._panels = upright_panels(spec, root, root_rest)
+    self._panels = [(index, rot) for index, rot in upright_panels(spec, root, root_rest)
+                    if only is None or index in only]
     discs = [is_disc(spec.parts[index], int(np.argmin(np.ptp(spec.parts[index].bounds, axis=0))))
              for index, _ in self._panels]
-    self.rack = (panel_rack.PanelRack(slots=slot_sizes(spec, self._panels), discs=discs)
-                 if self._panels else None)
+    self.rack = (panel_rack.PanelRack(slots=slot_sizes(spec, self._panels), discs=discs,
+                                      name=name) if self._panels else None)
     self._rests = (resting.rests_in_rack(
         spec, self.rack.boxes, [(index, rot, self._stand(slot, rot, np.eye(3), np.zeros(3)))
                                 for slot, (index, rot) in enumerate(self._panels)],
