@@ -40,8 +40,9 @@ HOVER, STANDOFF = 0.12, 0.12
 HEADINGS = np.radians(np.arange(0, 360, 45))
 # The hand has lost the root once it has slid this far (m) from where the fingers took it.
 SLIP = 0.03
-# Rad the root's upright axis may lean from the vertical and still count as standing.
-STANDING = 0.1
+# Rad the standing axis of a root lying on its side may lean from the horizontal (lying at
+# rest it is horizontal).
+LYING = np.radians(45.0)
 
 
 def upright_axis(spec, part):
@@ -74,8 +75,10 @@ def standing_axis(spec, root):
 
 
 def needed(task, physics, surface):
-  """Whether the root, alone and lying off its standing axis (`standing_axis`), must stand
-  up before any part can go in: every open mate waits in the surface (turn_over.waiting)."""
+  """Whether the root, alone and lying on its side (its standing axis, `standing_axis`,
+  within LYING of the horizontal), must stand up before any part can go in: every open
+  mate waits in the surface (turn_over.waiting). A root upside down is no stand-up's: the
+  turn about a horizontal axis has no one axis to take then (turn_over's case)."""
   root = task.root_part
   if len(part_geometry.root_group(task)) > 1:
     return False
@@ -84,8 +87,7 @@ def needed(task, physics, surface):
     return False
   _, rot = part_geometry.part_pose(physics, task.furniture, root)
   up = rot @ axis
-  return bool(np.arccos(np.clip(up[2], -1.0, 1.0)) > STANDING
-              and turn_over.waiting(task, physics, surface))
+  return bool(abs(up[2]) < np.sin(LYING) and turn_over.waiting(task, physics, surface))
 
 
 def _turn_upright(up):
