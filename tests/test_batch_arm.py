@@ -1,6 +1,7 @@
-"""The batched task for the Panda on CPU: the model matches the CPU environment's, the jax
-forward kinematics MuJoCo's, task-space actions move the tool as the CPU env's do, the
-vector env serves the arm, and the batched scripted expert takes the last part.
+"""The batched task for the single arms (arm_env.ROBOTS: the Panda, the Sawyer) on CPU:
+the model matches the CPU environment's, the jax forward kinematics MuJoCo's, task-space
+actions move the tool as the CPU env's do, the vector env serves the arm, and the batched
+scripted expert takes the last part.
 
 MJX's JAX implementation steps this model far too slowly for CI on a small CPU (see
 docs/batch.md), so the stepping tests run the device code with the physics stepped by
@@ -47,6 +48,12 @@ def env():
   return arm_env.load(FURNITURE, "panda", impl="jax", **OPTIONS)
 
 
+@pytest.fixture(scope="module", params=arm_env.ROBOTS)
+def robot_env(request):
+  """The batched last-part table for each single arm the batched env serves."""
+  return arm_env.load(FURNITURE, request.param, impl="jax", **OPTIONS)
+
+
 def _actions(steps):
   """A task-space sequence: moves along each axis, turns about each, gripper open."""
   out = np.zeros((steps, 8))
@@ -59,8 +66,9 @@ def _actions(steps):
   return out
 
 
-def test_model_matches_cpu(env):
-  cpu = ikea_suite.load(FURNITURE, "panda", seed=0, **{"preassembled": 4})
+def test_model_matches_cpu(robot_env):
+  env = robot_env
+  cpu = ikea_suite.load(FURNITURE, env.robot, seed=0, **{"preassembled": 4})
   timestep = cpu.physics.model.opt.timestep
   model = env.arm_model.model
   assert model.opt.timestep == timestep
@@ -82,8 +90,9 @@ def test_model_matches_cpu(env):
                              cpu_obs["robot/tcp_positions"], atol=1e-6)
 
 
-def test_forward_kinematics_matches_mujoco(env):
+def test_forward_kinematics_matches_mujoco(robot_env):
   import mujoco
+  env = robot_env
   am = env.arm_model
   data = mujoco.MjData(am.model)
   rng = np.random.default_rng(0)
@@ -97,10 +106,11 @@ def test_forward_kinematics_matches_mujoco(env):
     np.testing.assert_allclose(rot.ravel(), data.site_xmat[am.tcp_site], atol=1e-9)
 
 
-def test_tool_motion_matches_cpu_env(env):
+def test_tool_motion_matches_cpu_env(robot_env):
+  env = robot_env
   steps = 28
   actions = _actions(steps)
-  cpu = ikea_suite.load(FURNITURE, "panda", seed=0, **{"preassembled": 4})
+  cpu = ikea_suite.load(FURNITURE, env.robot, seed=0, **{"preassembled": 4})
   cpu.reset()
   cpu_tool = []
   for action in actions:
@@ -118,7 +128,7 @@ def test_tool_motion_matches_cpu_env(env):
   moved = max(np.linalg.norm(pos - cpu_tool[0][0]) for pos, _ in cpu_tool)
   turning = np.abs(actions[:, 3:6]).sum(1) > 0
   first_turn = int(np.argmax(turning))
-  print(f"tool moved up to {moved:.3f} m; batched vs CPU before the first turn: "
+  print(f"{env.robot}: tool moved up to {moved:.3f} m; batched vs CPU before the first turn: "
         f"{max(errors_pos[:first_turn]) * 1000:.1f} mm, over all: "
         f"{max(errors_pos) * 1000:.1f} mm, {np.degrees(max(errors_rot)):.1f} deg; batched tool "
         f"from its target: {max(track) * 1000:.1f} mm")
@@ -127,6 +137,33 @@ def test_tool_motion_matches_cpu_env(env):
   assert max(errors_pos[:first_turn]) < TRANSLATE_TOL
   assert max(errors_rot) < TOOL_ANGLE_TOL
   assert max(track) < TRACK_TOL
+
+
+def test_model_keeps_what_default_classes_give():
+  """A geom may take its mesh, type and size from a default class (the Jaco hand's
+  knuckles their meshes, the Jaco's joint rings their cylinder type): the batched model
+  keeps those meshes, and the light model makes those cylinders capsules and keeps only
+  the gripper colliding on the robot. (The Jaco builds and its jax forward kinematics
+  matches MuJoCo's, but it is not in arm_env.ROBOTS: see docs/batch.md.)"""
+  import mujoco
+  from ikea_suite.batch import arm_model
+  am = arm_model.build(FURNITURE, "jaco", layouts=1, light=True, preassembled=4)
+  model = am.model
+  names = [model.geom(g).name for g in range(model.ngeom)]
+  knuckle = names.index("jaco/jaco_hand/finger_knuckle_1")
+  assert model.geom_type[knuckle] == mujoco.mjtGeom.mjGEOM_MESH
+  ring = names.index("jaco/ring_1")
+  assert model.geom_type[ring] == mujoco.mjtGeom.mjGEOM_CAPSULE
+  assert model.geom_contype[ring] == 0 and model.geom_conaffinity[ring] == 0
+  assert not np.any(model.geom_type == mujoco.mjtGeom.mjGEOM_CYLINDER)
+  data = mujoco.MjData(model)
+  q = np.random.default_rng(0).uniform(am.joint_low, am.joint_high)
+  data.qpos[am.arm_qpos] = q
+  mujoco.mj_kinematics(model, data)
+  chain = arm_control.chain(model, am.tcp_site, am.arm_qpos)
+  with jax.enable_x64(True):
+    pos, _ = arm_control.tool_pose(chain, jnp.asarray(q))
+  np.testing.assert_allclose(pos, data.site_xpos[am.tcp_site], atol=1e-9)
 
 
 def test_bad_options():
@@ -145,14 +182,15 @@ def test_mjx_step_traces(env):
   assert out.obs["robot/tcp_positions"].shape == (1, 3)
 
 
-def test_vector_env_for_the_panda():
+@pytest.mark.parametrize("robot", arm_env.ROBOTS)
+def test_vector_env_for_the_arm(robot):
   import gymnasium
   import ikea_suite.gym  # noqa: F401
   vec = gymnasium.make_vec("ikea_suite/Assembly-v0", num_envs=2,
                            vectorization_mode="vector_entry_point", furniture=FURNITURE,
-                           robot="panda", impl="jax", **OPTIONS)
+                           robot=robot, impl="jax", **OPTIONS)
   assert vec.single_action_space.shape == (8,)
-  cpu = ikea_suite.load(FURNITURE, "panda", seed=0, preassembled=4)
+  cpu = ikea_suite.load(FURNITURE, robot, seed=0, preassembled=4)
   cpu_obs = cpu.reset().observation
   assert set(vec.single_observation_space.spaces) == set(cpu_obs)
   for key, space in vec.single_observation_space.spaces.items():
@@ -173,28 +211,32 @@ def test_expert_chooses_an_allowed_twist_and_a_grasp_per_world(env):
 
 
 # The expert's last-part runs on each model's first CPU episode starts (`layouts`), the
-# worlds' starts drawn by `seed`: (furniture, layouts, seed, worlds, steps). Every world
-# completes within `steps` (measured: the table's by steps 228 and 166, the stool's by 174
-# and 164; the bench's end panel (start 7) by 253 and its stretcher (start 8) by 167, both
-# taken from the rack), so one that does not is a regression.
-COMPLETING = [("table_four_leg_lack", 4, 2, 2, 250), ("stool_square_pine", 4, 0, 2, 200),
-              ("bench_plank_pine", 9, 10, 2, 300)]
+# worlds' starts drawn by `seed`: (robot, furniture, layouts, seed, worlds, steps). Every
+# world completes within `steps` (measured: the Panda's table by steps 228 and 166, its
+# stool by 174 and 164, its bench's end panel (start 7) by 253 and its stretcher (start 8)
+# by 167, both taken from the rack; the Sawyer's table by 186 and 129), so one that does
+# not is a regression.
+COMPLETING = [("panda", "table_four_leg_lack", 4, 2, 2, 250),
+              ("panda", "stool_square_pine", 4, 0, 2, 200),
+              ("panda", "bench_plank_pine", 9, 10, 2, 300),
+              ("sawyer", "table_four_leg_lack", 4, 0, 2, 250)]
 
 
-def _last_part_env(furniture, layouts):
+def _last_part_env(furniture, layouts, robot="panda"):
   parts = len(catalog.spec(furniture).parts)
-  return arm_env.load(furniture, "panda", impl="jax", preassembled=parts - 1, layouts=layouts)
+  return arm_env.load(furniture, robot, impl="jax", preassembled=parts - 1, layouts=layouts)
 
 
-@pytest.mark.parametrize("furniture,layouts,seed,worlds,steps", COMPLETING)
-def test_scripted_expert_takes_the_last_part_to_its_mate(furniture, layouts, seed, worlds, steps):
+@pytest.mark.parametrize("robot,furniture,layouts,seed,worlds,steps", COMPLETING)
+def test_scripted_expert_takes_the_last_part_to_its_mate(robot, furniture, layouts, seed, worlds,
+                                                         steps):
   """The expert grasps, lifts, turns and carries the loose part (a leg lying on the floor,
   a bench's panel standing in the rack) onto the turned-over assembly and connects it, in
   every world (docs/batch.md gives the rates over more worlds and seeds)."""
-  env = _last_part_env(furniture, layouts)
+  env = _last_part_env(furniture, layouts, robot)
   start = time.time()
   success, took, phase = arm_scripted.rollout(env, worlds, steps, seed=seed, host_physics=True)
-  print(f"{furniture}: phases {[arm_scripted.PHASES[p] for p in phase]} "
+  print(f"{robot}, {furniture}: phases {[arm_scripted.PHASES[p] for p in phase]} "
         f"({time.time() - start:.0f} s); completed {int(success.sum())}/{worlds} at steps "
         f"{took.tolist()}")
   assert success.all(), [arm_scripted.PHASES[p] for p in phase]

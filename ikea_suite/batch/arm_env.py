@@ -1,4 +1,4 @@
-"""The batched assembly environment for a single arm (the Panda): functional reset/step.
+"""The batched assembly environment for a single arm (ROBOTS): functional reset/step.
 
     env = ikea_suite.batch.load("table_four_leg_lack", robot="panda", num_worlds=4096)
     state = env.reset_batch(jax.random.PRNGKey(0), num_worlds=4096)
@@ -53,7 +53,7 @@ from ikea_suite.batch import worlds
 from ikea_suite.robots import control_modes
 from ikea_suite.tasks import alignment
 
-ROBOTS = ("panda",)
+ROBOTS = ("panda", "sawyer")
 CONNECT_ACTION = env_lib.CONNECT_ACTION
 MODES = (control_modes.TASK_SPACE, control_modes.JOINT_POSITION)
 # Warp buffer sizing (buffer_sizing): recorded starts settled, and the most contacts two
@@ -116,7 +116,7 @@ class BatchArmAssembly(worlds.BatchWorlds):
 
   Args:
     furniture: catalog name or model file path.
-    robot: "panda".
+    robot: one of ROBOTS ("panda", "sawyer").
     impl: "warp", "jax" or None (see BatchAssembly).
     num_worlds: worlds stepped together (sizes Warp's buffers; unused by jax).
     layouts: CPU episode starts recorded for the resets (arm_model.Layouts).
@@ -399,7 +399,7 @@ def load(furniture="table_four_leg_lack", robot="panda", impl=None, num_worlds=N
 
   Args:
     furniture: catalog name or model file path.
-    robot: "panda".
+    robot: one of ROBOTS ("panda", "sawyer").
     impl: "warp", "jax" or None (warp on a GPU with warp-lang, else jax).
     num_worlds: worlds to be stepped together (Warp buffer sizing).
     buffer_sizes: (nconmax, njmax) per world for Warp instead of the measured sizing.

@@ -1,4 +1,4 @@
-"""The MuJoCo model of the batched task for a single arm (the Panda): the CPU environment's
+"""The MuJoCo model of the batched task for a single arm (arm_env.ROBOTS): the CPU environment's
 own compiled scene, adapted for MJX.
 
 Built from `ikea_suite.load(furniture, robot)`: the same furniture at the arm's work
@@ -36,6 +36,7 @@ Differences from the CPU environment's compiled model, and why:
 
 import dataclasses
 
+import mujoco
 import numpy as np
 from dm_control import mjcf
 
@@ -225,20 +226,23 @@ def _layouts(records, table, welds, weld_eq, neq, spec=None):
   return Layouts(*(np.array(x) for x in zip(*rows)))
 
 
-def _lighten(kept, gripper_root):
+def _lighten(kept, types, sizes, robot_root, gripper_root):
   """The light collision model in place: cylinders as capsules, only the gripper's geoms
-  colliding on the robot. Returns the geoms switched off."""
+  colliding on the robot. `types` and `sizes` are the kept geoms' compiled values (a geom
+  may take its type and size from a default class: the Jaco's joint rings). Returns the
+  geoms switched off."""
+  # find_all crosses attachments: the Jaco's hand is a model attached to its arm's.
+  robot = {id(g) for g in robot_root.find_all("geom")}
   gripper = set()
   stack = [gripper_root]
   while stack:
     body = stack.pop()
     gripper.update(id(g) for g in body.find_all("geom", immediate_children_only=True))
     stack.extend(body.find_all("body", immediate_children_only=True))
-  robot_root = gripper_root.root
   off = []
-  for geom in kept:
-    if geom.type == "cylinder":
-      size = np.asarray(geom.size, dtype=float)
+  for geom, kind, size in zip(kept, types, sizes):
+    if kind == mujoco.mjtGeom.mjGEOM_CYLINDER:
+      size = np.asarray(size, dtype=float)
       if geom.fromto is not None:
         ends = np.asarray(geom.fromto, dtype=float).reshape(2, 3)
         axis = ends[1] - ends[0]
@@ -249,7 +253,7 @@ def _lighten(kept, gripper_root):
       else:
         geom.size = [size[0], max(size[1] - size[0], 1e-6)]
       geom.type = "capsule"
-    if geom.root is robot_root and id(geom) not in gripper:
+    if id(geom) in robot and id(geom) not in gripper:
       off.append(geom)
   return off
 
@@ -291,14 +295,21 @@ def build(furniture, robot="panda", layouts=DEFAULT_LAYOUTS, light=False, **opti
   kept = [g for g, v in zip(geoms, visual) if not v]
   kept_values = {f: np.array(getattr(physics.bind(kept), f)) for f in _GEOM_FIELDS}
   act_values = {f: np.array(getattr(old_model, f"actuator_{f}")) for f in _ACTUATOR_FIELDS}
+  # Meshes by the compiled model's ids: a geom may take its mesh from a default class
+  # (the Jaco hand's fingers), so its `mesh` attribute can be empty while it uses one.
+  kept_bound = physics.bind(kept)
+  used = set(np.asarray(kept_bound.dataid)[
+      np.asarray(kept_bound.type) == mujoco.mjtGeom.mjGEOM_MESH].tolist())
+  meshes = root.find_all("mesh")
+  mesh_ids = np.asarray(physics.bind(meshes).element_id) if meshes else []
   for geom, is_visual in zip(geoms, visual):
     if is_visual:
       geom.remove()
-  used = {id(g.mesh) for g in kept if g.mesh is not None}
-  for mesh in root.find_all("mesh"):
-    if id(mesh) not in used:
+  for mesh, mesh_id in zip(meshes, mesh_ids):
+    if int(mesh_id) not in used:
       mesh.remove()
-  switched_off = _lighten(kept, arm.gripper.root_body) if light else []
+  switched_off = (_lighten(kept, np.asarray(kept_bound.type), np.array(kept_bound.size),
+                          robot_entity.mjcf_model, arm.gripper.root_body) if light else [])
   for weld in root.find_all("equality"):
     if weld.tag == "weld" and (weld.name or "").startswith("part_weld_"):
       weld.remove()

@@ -37,7 +37,7 @@ class AssemblyVectorEnv(gymnasium.vector.VectorEnv):
   Args:
     furniture: catalog name or model file path.
     num_envs: number of worlds.
-    robot: "cursor" or "panda" (batch/arm_env.py).
+    robot: "cursor" or an arm of arm_env.ROBOTS (batch/arm_env.py).
     impl: "warp", "jax" or None (see BatchAssembly).
     **options: ikea_suite.load's task options (batch.settings.OPTIONS).
   Raises:
