@@ -16,6 +16,7 @@ import numpy as np
 
 from ikea_suite import geometry
 from ikea_suite.experts import arm_motion
+from ikea_suite.experts import arm_skill
 from ikea_suite.experts import part_geometry
 from ikea_suite.experts import sensing
 from ikea_suite.experts import turn_over
@@ -112,7 +113,7 @@ class Step(enum.Enum):
   DONE = "done"
 
 
-class StandUp:
+class StandUp(arm_skill.SteppedSkill):
   """One arm's stand-up of the root part: call `start`, then each control step `__call__`
   for the task-space action; `step` says where it is, `failed` whether it gave up.
 
@@ -126,10 +127,7 @@ class StandUp:
     step_budget: control steps a step may take before the stand-up gives up.
   """
 
-  def __init__(self, env, arm, surface, route, close_steps=8, open_steps=6, step_budget=250):
-    self._env, self._arm, self._surface, self._route = env, arm, surface, route
-    self._close_steps, self._open_steps, self._budget = close_steps, open_steps, step_budget
-    self.reset()
+  STEPS = Step
 
   def reset(self):
     """Forgets the episode's stand-ups."""
@@ -295,7 +293,7 @@ class StandUp:
       return action
     near = distance < (0.006 if slow else 0.02) and angle < 0.05
     if self.step in (Step.CLOSE, Step.OPEN):
-      near = self._count >= (self._close_steps if self.step == Step.CLOSE else self._open_steps)
+      near = self._fingers_done()
     if near:
       self._next()
     elif self._count > self._budget:
@@ -332,11 +330,7 @@ class StandUp:
     self._out, self._let_go = tcp - STANDOFF * rot[:, 2], (tcp, rot)
 
   def _next(self):
-    order = list(Step)
-    self.step = order[order.index(self.step) + 1]
-    self._count = 0
-    if self.step == Step.OPEN:
-      self._set_out()
+    super()._next()
     if self.step == Step.LIFT:   # where the fingers took it, in its own frame
       env = self._env
       root, furniture = self._root()

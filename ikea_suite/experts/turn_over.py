@@ -16,6 +16,7 @@ import numpy as np
 
 from ikea_suite import geometry
 from ikea_suite.experts import arm_motion
+from ikea_suite.experts import arm_skill
 from ikea_suite.experts import part_geometry
 from ikea_suite.experts import sensing
 from ikea_suite.tasks import planner
@@ -119,7 +120,7 @@ class Step(enum.Enum):
   DONE = "done"
 
 
-class TurnOver:
+class TurnOver(arm_skill.SteppedSkill):
   """One arm's turn-over of the root's group: call `start`, then each control step
   `__call__` for the tool goal; `step` says where it is, `failed` whether it gave up.
 
@@ -131,10 +132,7 @@ class TurnOver:
     close_steps: control steps the fingers take to close.
   """
 
-  def __init__(self, env, arm, surface, route, close_steps=8, open_steps=6, step_budget=250):
-    self._env, self._arm, self._surface, self._route = env, arm, surface, route
-    self._close_steps, self._open_steps, self._budget = close_steps, open_steps, step_budget
-    self.reset()
+  STEPS = Step
 
   def reset(self):
     """Forgets the episode's turn-overs."""
@@ -298,7 +296,7 @@ class TurnOver:
       if not near and self._roll_idle > ROLL_WAIT and self._rolled >= np.pi - ROLL_SLACK:
         self._rolled, near = self._measured_roll(), True   # set down as far as it turned
     if self.step in (Step.CLOSE, Step.OPEN):
-      near = self._count >= (self._close_steps if self.step == Step.CLOSE else self._open_steps)
+      near = self._fingers_done()
     if near:
       self._next()
     elif self._count > self._budget:
@@ -336,11 +334,7 @@ class TurnOver:
     self._out = tcp - STANDOFF * rot[:, 2]
 
   def _next(self):
-    order = list(Step)
-    self.step = order[order.index(self.step) + 1]
-    self._count = 0
-    if self.step == Step.OPEN:
-      self._set_out()
+    super()._next()
     if self.step == Step.IN:
       self._leg_at = part_geometry.part_pose(self._env.physics, self._env.task.furniture,
                                              self._part)[0][:2].copy()
