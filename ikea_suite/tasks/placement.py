@@ -11,6 +11,7 @@ import numpy as np
 from dm_control import composer
 
 from ikea_suite import geometry
+from ikea_suite.assembly import graph
 from ikea_suite.tasks import planner
 from ikea_suite.tasks import resting
 
@@ -159,26 +160,11 @@ def last_part_choices(spec, table, pairs):
   """
   num_parts = len(spec.parts)
   edges = [(int(table.part[table.pair_a[k]]), int(table.part[table.pair_b[k]])) for k in pairs]
-
-  def connected(parts):
-    parts = set(parts)
-    if not parts:
-      return True
-    seen, stack = set(), [min(parts)]
-    while stack:
-      part = stack.pop()
-      if part in seen:
-        continue
-      seen.add(part)
-      stack.extend(b if a == part else a for a, b in edges
-                   if part in (a, b) and a in parts and b in parts)
-    return seen == parts
-
-  if not connected(range(num_parts)):
+  if not graph.connected(num_parts, edges):
     return []
   root = planner.root_part(spec)
   return [i for i in range(num_parts)
-          if i != root and connected(set(range(num_parts)) - {i})]
+          if i != root and graph.connected(set(range(num_parts)) - {i}, edges)]
 
 
 class ScatteredParts(PartInitializer):
