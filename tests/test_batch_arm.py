@@ -29,18 +29,13 @@ from ikea_suite.props import catalog   # noqa: E402
 FURNITURE = "table_four_leg_lack"
 # The last-part task of the four-leg table: four of its five parts joined.
 OPTIONS = dict(preassembled=4, layouts=4)
-# The same task-space actions from home: while the target only moves (no turn), the tool of
-# a batched world stays within TRANSLATE_TOL (m) of the CPU env's; over the whole
-# sequence, turns included, their orientations within TOOL_ANGLE_TOL (rad) and the batched
-# tool within TRACK_TOL (m) of its own target. The solvers differ (arm_control.py): while
-# turning, the CPU's mink QP let its tool drift up to 77 mm from its unmoving position
-# target (its SE(3)-log error couples the turn into the translation), where the batched
-# tool stayed within 30 mm of its target throughout, most of it the servos' lag behind a
-# target that moves 20 mm a step (the CPU's tool lags as much while only moving).
-# Measured: 0.7 mm before the first turn, 10.5 degrees at most.
-TRANSLATE_TOL = 0.005
-TOOL_ANGLE_TOL = 0.2
-TRACK_TOL = 0.04
+# The same task-space actions from home, turns included: the tool of a batched world stays
+# within TOOL_POS_TOL (m) and TOOL_ANGLE_TOL (rad) of the CPU env's. Both paths solve the
+# same IK problem (arm_control.py); what is left is rounding. Measured: 0.002 mm, 0.000
+# degrees. (The CPU's own tool strays up to 100 mm from its target while turning, which
+# the batched tool now does alike: mink's SE(3) error couples the turn into translation.)
+TOOL_POS_TOL = 0.001
+TOOL_ANGLE_TOL = 0.01
 
 
 @pytest.fixture(scope="module")
@@ -117,26 +112,19 @@ def test_tool_motion_matches_cpu_env(robot_env):
     obs = cpu.step(action).observation
     cpu_tool.append((obs["robot/tcp_positions"][0], obs["robot/tcp_quaternions"][0]))
   state = env.reset_batch(jax.random.PRNGKey(0), 1)
-  errors_pos, errors_rot, track = [], [], []
+  errors_pos, errors_rot = [], []
   for action, (cpu_pos, cpu_quat) in zip(actions, cpu_tool):
     state = env.step_batch_host(state, action[None])
     pos = np.asarray(state.obs["robot/tcp_positions"])[0, 0]
     quat = np.asarray(state.obs["robot/tcp_quaternions"])[0, 0]
     errors_pos.append(np.linalg.norm(pos - cpu_pos))
-    track.append(np.linalg.norm(pos - np.asarray(state.targets.pos)[0]))
     errors_rot.append(2 * np.arccos(min(1.0, abs(float(np.dot(quat, cpu_quat))))))
   moved = max(np.linalg.norm(pos - cpu_tool[0][0]) for pos, _ in cpu_tool)
-  turning = np.abs(actions[:, 3:6]).sum(1) > 0
-  first_turn = int(np.argmax(turning))
-  print(f"{env.robot}: tool moved up to {moved:.3f} m; batched vs CPU before the first turn: "
-        f"{max(errors_pos[:first_turn]) * 1000:.1f} mm, over all: "
-        f"{max(errors_pos) * 1000:.1f} mm, {np.degrees(max(errors_rot)):.1f} deg; batched tool "
-        f"from its target: {max(track) * 1000:.1f} mm")
-  assert moved > 0.1
-  assert first_turn >= 8
-  assert max(errors_pos[:first_turn]) < TRANSLATE_TOL
+  print(f"{env.robot}: tool moved up to {moved:.3f} m; batched vs CPU: "
+        f"{max(errors_pos) * 1000:.3f} mm, {np.degrees(max(errors_rot)):.3f} deg")
+  assert moved > 0.1 and np.abs(actions[:, 3:6]).sum() > 0
+  assert max(errors_pos) < TOOL_POS_TOL
   assert max(errors_rot) < TOOL_ANGLE_TOL
-  assert max(track) < TRACK_TOL
 
 
 def test_model_keeps_what_default_classes_give():
@@ -271,14 +259,15 @@ def test_the_bench_last_part_stands_in_the_rack_the_way_up_it_mates():
 
 def test_box_qp_meets_the_optimality_conditions():
   # IK-shaped problems: H = J'WJ + small damping for a 6 x 7 Jacobian, boxes a few tenths
-  # of a radian about zero, as the velocity limit and the joint ranges give.
+  # of a radian about zero, as the velocity limit and the joint ranges give; half of them
+  # with a slope large enough to hold several joints at their bounds (where an active-set
+  # exchange cycled).
   rng = np.random.default_rng(7)
   box_qp = jax.jit(arm_control.box_qp)
-  solved = 0
-  for _ in range(100):
+  for trial in range(200):
     jac = rng.normal(size=(6, 7))
     hessian = jac.T @ jac + 1e-3 * np.eye(7)
-    gradient = rng.normal(size=7)
+    gradient = rng.normal(size=7) * (1.0 if trial % 2 else 20.0)
     lower, upper = -rng.uniform(0.0, 0.1, 7), rng.uniform(0.0, 0.1, 7)
     with jax.enable_x64(True):   # as on MJX's JAX implementation (env.precision)
       x = np.asarray(box_qp(jnp.asarray(hessian), jnp.asarray(gradient),
@@ -286,7 +275,5 @@ def test_box_qp_meets_the_optimality_conditions():
     slope = hessian @ x - gradient
     assert np.all(x >= lower - 1e-9) and np.all(x <= upper + 1e-9)
     inside = (x > lower + 1e-7) & (x < upper - 1e-7)
-    solved += bool(np.all(np.abs(slope[inside]) < 1e-5)
-                   and np.all(slope[x <= lower + 1e-7] > -1e-5)
-                   and np.all(slope[x >= upper - 1e-7] < 1e-5))
-  assert solved >= 98
+    assert np.all(np.abs(slope[inside]) < 1e-6), trial
+    assert np.all(slope[x <= lower + 1e-7] > -1e-6) and np.all(slope[x >= upper - 1e-7] < 1e-6)
