@@ -33,7 +33,7 @@ FURNITURE = ("table_four_leg_lack", "stool_square_pine", "bench_plank_pine")
 
 def main(argv=None):
   parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-  parser.add_argument("--robot", default="panda", choices=arm_env.ROBOTS)
+  parser.add_argument("--robot", default="panda", choices=arm_scripted.ROBOTS)
   parser.add_argument("--worlds", type=int, default=1024)
   parser.add_argument("--steps", type=int, default=600)
   parser.add_argument("--seed", type=int, default=0)

@@ -154,6 +154,14 @@ def test_model_keeps_what_default_classes_give():
   np.testing.assert_allclose(pos, data.site_xpos[am.tcp_site], atol=1e-9)
 
 
+def test_the_expert_serves_the_arms_it_was_shown_on(robot_env):
+  if robot_env.robot in arm_scripted.ROBOTS:
+    assert arm_scripted.plan(robot_env).closing.shape == (3,)
+  else:
+    with pytest.raises(errors.UnknownNameError, match="panda, sawyer"):
+      arm_scripted.plan(robot_env)
+
+
 def test_bad_options():
   with pytest.raises(errors.UnknownNameError):
     arm_env.load(FURNITURE, "sawyer_x")

@@ -179,4 +179,4 @@ def test_make_vec_for_an_arm_names_the_process_vectors():
   import gymnasium
   import ikea_suite.gym  # noqa: F401
   with pytest.raises(ikea_suite.OptionValueError, match="vectorization_mode='async'"):
-    gymnasium.make_vec("ikea_suite/Assembly-v0", num_envs=2, robot="jaco")
+    gymnasium.make_vec("ikea_suite/Assembly-v0", num_envs=2, robot="baxter")

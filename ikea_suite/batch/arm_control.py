@@ -173,6 +173,10 @@ def ik_step(chain_, q, target_pos, target_rot, home, low, high, max_step):
     (joints,) joint targets.
   """
   q = jnp.clip(q, low, high)
+  # A joint without range (the Jaco's 1, 4, 5 and 6) is pulled towards the home angle's
+  # whole-turn equivalent nearest it, as DifferentialIK.posture_near does.
+  endless = jnp.isinf(low) & jnp.isinf(high)
+  home = jnp.where(endless, home + 2 * jnp.pi * jnp.round((q - home) / (2 * jnp.pi)), home)
   error = frame_error(chain_, q, target_pos, target_rot)
   jac = jax.jacfwd(frame_error, argnums=1)(chain_, q, target_pos, target_rot)   # (6, n)
   weight = jnp.array([POSITION_COST] * 3 + [ORIENTATION_COST] * 3) ** 2

@@ -53,7 +53,7 @@ from ikea_suite.batch import worlds
 from ikea_suite.robots import control_modes
 from ikea_suite.tasks import alignment
 
-ROBOTS = ("panda", "sawyer")
+ROBOTS = ("panda", "sawyer", "jaco")
 CONNECT_ACTION = env_lib.CONNECT_ACTION
 MODES = (control_modes.TASK_SPACE, control_modes.JOINT_POSITION)
 # Warp buffer sizing (buffer_sizing): recorded starts settled, and the most contacts two

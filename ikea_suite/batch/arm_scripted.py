@@ -50,12 +50,16 @@ import jax.numpy as jnp
 import mujoco
 import numpy as np
 
+from ikea_suite import errors
 from ikea_suite.batch import arm_control
 from ikea_suite.batch import rigid
 from ikea_suite.batch import task_state
 from ikea_suite.experts import top_down_grasp
 from ikea_suite.tasks import placement as cpu_placement
 
+# The arms this expert was shown to assemble with (docs/batch.md): two fingers facing each
+# other. The Jaco's fingers close against a thumb, and its hand missed every leg.
+ROBOTS = ("panda", "sawyer")
 REACH, DESCEND, CLOSE, LIFT, CARRY, LOWER, INSERT = range(7)
 PHASES = ("reach", "descend", "close", "lift", "carry", "lower", "insert")
 HOVER = 0.06          # m above the grasp point the reach makes for
@@ -147,9 +151,12 @@ def _finger_geometry(env):
   mujoco.mj_forward(model, data)
   tool_pos = data.site_xpos[am.tcp_site]
   tool_rot = data.site_xmat[am.tcp_site].reshape(3, 3)
-  a, b = data.xpos[am.finger_body[0]], data.xpos[am.finger_body[1]]
-  closing = tool_rot.T @ (b - a)
-  closing /= np.linalg.norm(closing)
+  # The fingers close along the line they spread over most: the two fingers' line, or for a
+  # hand whose fingers close against a thumb, the thumb's line to the fingers.
+  spread = data.xpos[am.finger_body] - data.xpos[am.finger_body].mean(axis=0)
+  line = np.linalg.svd(spread)[2][0]
+  line *= np.sign(line @ (spread[-1] - spread[0])) or 1.0
+  closing = tool_rot.T @ line
   lowest = np.inf
   for g in np.flatnonzero(np.isin(model.geom_bodyid, am.finger_body)):
     if not (model.geom_contype[g] or model.geom_conaffinity[g]):
@@ -163,7 +170,13 @@ def _finger_geometry(env):
 
 
 def plan(env):
-  """The expert's Plan for a BatchArmAssembly `env` (numpy work, once per environment)."""
+  """The expert's Plan for a BatchArmAssembly `env` (numpy work, once per environment).
+
+  Raises:
+    UnknownNameError: the env's robot is not one of ROBOTS.
+  """
+  if env.robot not in ROBOTS:
+    raise errors.UnknownNameError("batched expert robot", env.robot, ROBOTS)
   bm = env.batch_model
   spec, table = bm.spec, bm.table
   p = bm.num_parts
