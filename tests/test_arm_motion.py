@@ -39,28 +39,3 @@ def test_servo_path_end_stops_where_the_arm_servoed_there_stops(move, turn):
   # their own way); the wrist the other way round would end a full turn (6.3 rad) away.
   assert np.abs(replayed - reached).max() < 0.3
   assert abs(replayed[6] - reached[6]) < 0.2
-
-
-def test_an_arm_without_a_spare_joint_takes_a_leg_near_the_end_away_from_its_connector():
-  # The Jaco's six joints put its elbow wherever the tool pose does: a Lack leg held at
-  # its middle and stood on its mate, tool level, folded the elbow onto the floor. It takes
-  # the leg near its far end instead; the seven-joint Sawyer takes it at its middle.
-  from ikea_suite import experts
-  from ikea_suite.experts import part_geometry
-  for robot, far_end in (("jaco", True), ("sawyer", False)):
-    env = ikea_suite.load("table_four_leg_lack", robot, seed=0)
-    env.reset()
-    assert arm_motion.elbow_set_by_tool(env.task.robot, 0) == far_end
-    expert = experts.make_expert(env, require_supported=False)
-    furniture = env.task.furniture
-    leg = 1 if env.task.root_part != 1 else 2
-    point, _ = expert._grasp_pose(leg, 1.0)
-    pos, rot = part_geometry.part_pose(env.physics, furniture, leg)
-    bounds = furniture.spec.parts[leg].bounds
-    axis = int(np.argmax(bounds[1] - bounds[0]))
-    along = (rot.T @ (point - pos))[axis]
-    connector = furniture.connectors.local_pos[furniture.connectors.part == leg][:, axis].mean()
-    if far_end:
-      assert along * connector < 0 and abs(along) > 0.5 * (bounds[1][axis] - bounds[0][axis]) - 0.03
-    else:
-      assert abs(along) < 0.005

@@ -277,20 +277,6 @@ def cramped(base_pos, tool_pos, tool_axis):
   return max(0.0, 0.45 - np.linalg.norm(wrist[:2] - base_pos[:2]))
 
 
-# An arm with no more joints than a tool pose has degrees of freedom has no null space:
-# its elbow is wherever the tool pose puts it (a redundant arm's IK draws it towards home).
-FIXED_ELBOW_JOINTS = 6
-
-
-def elbow_set_by_tool(robot, arm):
-  """Whether `arm` has no joint to spare (FIXED_ELBOW_JOINTS or fewer): the Jaco's. Such an
-  arm, its tool level and low beside the assembly (a stool's or table's leg taken lying
-  and stood on its mate, held at its middle), folds its elbow down onto the floor 0.4 m
-  from its base: the elbow lay there 4-9 cm up, the tool stopped 1-3 cm short of the mate
-  and the carry stalled until time ran out (table_four_leg_lack, stool_step_white)."""
-  return len(robot.arms[arm].joints) <= FIXED_ELBOW_JOINTS
-
-
 def pinned(robot, physics, arm, within=0.02):
   """True when a joint of the arm is within `within` rad of a limit its IK keeps it in."""
   low, high = robot.ik.limits

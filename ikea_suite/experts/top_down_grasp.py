@@ -50,13 +50,6 @@ SETTLED_SPEED = 0.0005
 # Such a hand (one finger against two) holds a lifted part with its fingers aimed this far
 # (rad) short of their closed limit instead of past it; see arm_motion.hold_command.
 HOLD_SHORT_OF_CLOSED = 0.05
-# A part taken away from its middle (an arm with no joint to spare holds a leg near its
-# far end: arm_motion.elbow_set_by_tool) lies in a grip held short of closed
-# (HOLD_SHORT_OF_CLOSED): its weight may turn the grip by at most this (N m) as it is
-# lifted. Held 85 mm off centre (0.029 N m), a 35 mm stool_round_frosta leg slipped out of
-# the Jaco's hand as it was lifted in 3 of 3 grasps (seed 1001); a stool_round_low_white
-# leg at 0.016 N m and a Lack leg at 0.019 N m were held.
-OFF_CENTRE_TORQUE = 0.02
 # A panel held by its top edge (TopDownGrasp.by_top_edge) hangs from the fingers: it goes
 # down onto its mate at this fraction of the arm's top speed (at 25 mm a step it swung
 # as the arm stopped), and the fingers close on it only within EDGE_GATE (m): 6 mm off,
@@ -116,17 +109,10 @@ class TopDownGrasp:
     if route.pad_below is None:   # measured at the first grasp, with the arm at home
       route.pad_below = arm_motion.fingertip_reach(self._robot, physics, self._arm)
     point, tip_clearance = point.copy(), 0.003
-    small = below_work_scale.active(self._env)
-    # A part taken lying and turned upright to its mate levels the tool at the grasp's
-    # height there: held away from its connectors, the hand stays high.
-    held_high = small or (arm_motion.elbow_set_by_tool(self._robot, self._arm)
-                          and not self.by_top_edge(part))
-    shift = below_work_scale.grip_shift(furniture, part) if held_high else np.zeros(3)
-    if shift.any() and not small:
-      shift = self._within_reach(part, part_pos, part_rot, shift)
-    if shift.any():
-      point = part_pos + part_rot @ shift
-    if small:
+    if below_work_scale.active(self._env):   # held away from its connectors: the hand stays high
+      shift = below_work_scale.grip_shift(furniture, part)
+      if shift.any():
+        point = part_pos + part_rot @ shift
       tip_clearance = below_work_scale.TIP_CLEARANCE
     point[2] = max(corners[:, 2].min(), self._surface) + route.pad_below + tip_clearance
     if self.by_top_edge(part):   # at the middle of its top edge, which a lean moves aside
@@ -140,24 +126,9 @@ class TopDownGrasp:
       point[2] += route.pad_below - (self._flat_grip_depth() if flat else EDGE_GRIP)
     closing = part_geometry.across_long_axis(part_rot, bounds) * sign
     rot = arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
-    if not small:   # (small parts are held near one end already)
+    if not below_work_scale.active(self._env):   # (small parts are held near one end already)
       point = point + part_rot @ self._room_shift(part, sign, point, rot)
     return point, rot
-
-  def _within_reach(self, part, part_pos, part_rot, shift, steps=8):
-    """`shift` (part frame), or cut back towards the part's centre until the part's weight
-    turns the grip by at most OFF_CENTRE_TORQUE and the grasp lies within the robot's
-    REACH of its base (horizontally): the far end of a Lack leg lying 0.7 m out lay 0.73 m
-    from the Jaco's base, and the hand hung 2 cm short of it for the whole descent."""
-    base, _ = self._robot.base_pose
-    physics, furniture = self._env.physics, self._env.task.furniture
-    weight = float(physics.model.body_subtreemass[furniture.body_ids[part]]) * 9.81
-    for fraction in np.linspace(1.0, 0.0, steps + 1):
-      point = part_pos + part_rot @ (fraction * shift)
-      if (weight * fraction * np.linalg.norm(shift) <= OFF_CENTRE_TORQUE
-          and np.linalg.norm(point[:2] - base[:2]) <= self._robot.REACH):
-        return fraction * shift
-    return np.zeros(3)
 
   def by_top_edge(self, part):
     """Whether `part`, as it stands now, is taken by its top edge: a panel
