@@ -190,4 +190,8 @@ def test_contacts_at_reports_what_the_arm_would_touch_without_moving_it():
   links = {physics.model.id2name(g, "geom") for g, body, depth in touched
            if body == floor and depth > 0.0}
   assert "sawyer/right_l4_2_col0" in links
+  arm_only = {physics.model.id2name(g, "geom") for g, _, _ in robot.contacts_at(
+      physics, down, hand=False)}
+  assert "sawyer/right_l4_2_col0" in arm_only
+  assert not any("finger" in name or "gripper" in name for name in arm_only)
   np.testing.assert_array_equal(physics.data.qpos, before)   # nothing moved

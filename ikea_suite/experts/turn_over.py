@@ -173,10 +173,10 @@ class TurnOver(arm_skill.SteppedSkill):
     """(grasp position, grasp rotation, lift height, cost of the way there) for a handle,
     the arm's joints at `q` now, or None when the legs are too short to hold above the rest
     of the assembly (the root handle is taken as low as the hand allows). The grasp rises
-    up the leg by RAISE until the arm, following the servo's own path over the assembly,
-    out to the standoff and in to the leg, touches nothing there (Manipulator.contacts_at);
-    the cost counts the path's misses, RAISED per metre raised and COLLIDES where the arm
-    touches something at every height."""
+    up the leg by RAISE until the arm's links, following the servo's own path over the
+    assembly, out to the standoff and in to the leg, touch nothing there
+    (Manipulator.contacts_at); the cost is RAISED per metre raised, and COLLIDES more
+    where they touch something at every height."""
     physics, furniture = self._env.physics, self._env.task.furniture
     robot, root = self._env.task.robot, self._env.task.root_part
     pos, _ = part_geometry.part_pose(physics, furniture, part)
@@ -189,21 +189,28 @@ class TurnOver(arm_skill.SteppedSkill):
                    part_geometry.parts_corners(physics, furniture, [root])[:, 2].max() + OVER_SEAT)
     if height > handle_top - 0.02:
       return None
+    # The arm's links, not the hand (its clearance is HAND_CLEARANCE and OVER_SEAT):
+    # followed along the servo's path, from here over the chair to the standoff, then in,
+    # and judged where the path ends at its goal. One that ends short says nothing of
+    # where the arm will be: from the Panda's home it wound the first two joints to their
+    # limits 0.17 m short, with the forearm in the legs, where the arm itself took that
+    # leg well (chair_back_ivar). What counts is the floor, the fixtures and the assembly;
+    # brushing a loose part (the back in its rack) did not stop the Panda.
+    group = set(self._group())
+    loose = {int(furniture.body_ids[p]) for p in range(len(furniture.spec.parts))
+             if p not in group}
     dt = self._env.control_timestep()
     standoff = pos[:2] - STANDOFF * approach[:2]
-    q, distance, angle = arm_motion.servo_path_end(robot, self._arm, q, np.array(
+    q, _, _ = arm_motion.servo_path_end(robot, self._arm, q, np.array(
         [*standoff, self._over_height(rot)]), rot, dt)
-    over = distance + 0.2 * angle
-    handle = furniture.body_ids[part]
     best, lowest = None, height
     for height in np.arange(lowest, handle_top - 0.02 + 1e-9, RAISE):
       point = np.array([pos[0], pos[1], height])
       at, cost = q, RAISED * (height - lowest)
-      for goal, any_body in ((point - STANDOFF * approach, True), (point, False)):
+      for goal in (point - STANDOFF * approach, point):
         at, distance, angle = arm_motion.servo_path_end(robot, self._arm, at, goal, rot, dt)
-        cost += distance + 0.2 * angle
-        if any(any_body or body != handle
-               for _, body, _ in robot.contacts_at(physics, at)):
+        if distance < 0.02 and angle < 0.05 and any(
+            body not in loose for _, body, _ in robot.contacts_at(physics, at, hand=False)):
           cost += COLLIDES
       if best is None or cost < best[0]:
         best = (cost, point)
@@ -216,7 +223,7 @@ class TurnOver(arm_skill.SteppedSkill):
     across = corners - np.outer(corners @ approach, approach)
     reach = np.linalg.norm(across, axis=1).max()
     lift = max(0.0, self._surface + ROLL_CLEARANCE + reach - point[2])
-    return point, rot, lift, over + cost
+    return point, rot, lift, cost
 
   def start(self, closing_local):
     """Chooses the handle and grasp the arm reaches best (grasp, lifted, half-rolled and
