@@ -39,16 +39,19 @@ OVER_CLEARANCE = 0.08
 # The grasp rises this far (m) at a time up a leg the arm, taking it lower, would touch
 # the floor or the assembly at; a handle touched at every height costs COLLIDES more
 # (metres of pose error, as the reach checks count them), and a raised grasp RAISED per
-# metre raised: taken higher, the chair hung farther from the roll's axis and turned 70
-# degrees less than the hand (Sawyer, chair_back_dark_bar).
+# metre raised: taken higher, the chair hangs farther below the roll's axis and twists
+# harder in the fingers as it rolls, so a leg the arm takes low without touching
+# anything comes first.
 RAISE, COLLIDES, RAISED = 0.03, 1.0, 10.0
 # A leg the hand, going in, has pushed this far (m) is given up: the hand followed the
 # leg it pushed and slid the chair 0.55 m out, beyond the reach the back needs
 # (chair_back_dark_bar, chair_back_white_round, chair_frame_back_black_tall).
 PUSHED = 0.02
-# The free hand's moves (_WATCHED) that come no nearer their goal for this many control
-# steps are stalled, as past the step budget: the Sawyer's hand, pressed against the floor
-# or an upturned leg, stood 4 cm from its standoff for the whole budget of 250.
+# The hand backing out empty (_WATCHED) that comes no nearer its goal for this many
+# control steps has stalled, as past the step budget: the Sawyer's, pressed against the
+# floor beside the chair, stood 4 cm from where it backed out to for the whole budget of
+# 250, and as long again going up. The way in is left its budget: the Panda's hand crept
+# the last centimetres to its standoff for 96 steps and then took the chair over.
 STALL_STEPS = 40
 
 # Rad the hand rolls per control step (about 20 degrees a second at 20 Hz).
@@ -131,8 +134,8 @@ class Step(enum.Enum):
   DONE = "done"
 
 
-# The steps a stall ends early (STALL_STEPS): the hand's own moves, holding nothing.
-_WATCHED = (Step.OVER, Step.STANDOFF, Step.OUT, Step.UP)
+# The steps a stall ends early (STALL_STEPS): the empty hand's way out.
+_WATCHED = (Step.OUT, Step.UP)
 
 
 class TurnOver(arm_skill.SteppedSkill):
