@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import ikea_suite
+from ikea_suite import geometry
 from ikea_suite.tasks import arm_placement
 
 
@@ -195,3 +196,44 @@ def test_a_root_within_reach_or_as_far_turned_lies_along_the_radius(furniture, r
   env.reset()
   distances = _root_connector_distances(env)
   assert np.ptp(distances) > 0.3   # its legs' slots from near to far
+
+
+def _racked_heights(env):
+  positions, rotations = env.task.furniture.part_poses(env.physics)
+  spec = env.task.furniture.spec
+  return {i: np.ptp((geometry.box_corners(*spec.parts[i].bounds) @ rotations[i].T)[:, 2])
+          for i in env.task.initializer.racked_parts}
+
+
+def test_a_carcass_that_would_rack_tall_panels_is_built_on_its_edge():
+  # Its side lying flat, the open TV unit's shelves and back stood 0.58 m tall in the rack;
+  # its side standing on its back or front edge, they stand as tall as the unit is deep,
+  # and the unit grows across the Panda's heading from a side that stands at rest.
+  env = ikea_suite.load("tv_unit_open_white", "panda", seed=0, scale=0.5)
+  spec, root = env.task.furniture.spec, env.task.root_part
+  env.reset()
+  heights = _racked_heights(env)
+  assert heights and max(heights.values()) < arm_placement.TALL_PANEL
+  positions, rotations = env.task.furniture.part_poses(env.physics)
+  extents = spec.parts[root].bounds[1] - spec.parts[root].bounds[0]
+  standing = rotations[root][:, int(np.argsort(extents)[1])]
+  assert abs(standing[2]) > 0.99   # its depth vertical: on its edge
+  thin = rotations[root][:, int(np.argmin(extents))]
+  base, base_rot = env.task.robot.base_pose
+  assert abs(thin @ base_rot[:, 0]) < 0.3   # the carcass grows across the heading
+  before = positions[root].copy()
+  for _ in range(20):
+    env.physics.step()
+  moved, _ = env.task.furniture.part_poses(env.physics)
+  assert np.linalg.norm(moved[root] - before) < 2e-3
+
+
+@pytest.mark.parametrize("furniture", ["bookcase_shelf_unit_billy",
+                                       "bookcase_shelf_unit_w60_h80_open"])
+def test_a_carcass_racking_panels_no_taller_than_the_limit_lies_on_its_face(furniture):
+  env = ikea_suite.load(furniture, "panda", seed=0, scale=0.5)
+  spec, root = env.task.furniture.spec, env.task.root_part
+  env.reset()
+  _, rotations = env.task.furniture.part_poses(env.physics)
+  extents = spec.parts[root].bounds[1] - spec.parts[root].bounds[0]
+  assert abs(rotations[root][2, int(np.argmin(extents))]) > 0.99   # its thickness vertical

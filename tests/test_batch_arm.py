@@ -212,10 +212,10 @@ def test_expert_chooses_an_allowed_twist_and_a_grasp_per_world(env):
 # stool by 174 and 164, its bench's end panel (start 7) by 253 and its stretcher (start 8)
 # by 167, both taken from the rack; the Sawyer's table by 186 and 129), so one that does
 # not is a regression.
-COMPLETING = [("panda", "table_four_leg_lack", 4, 2, 2, 250),
-              ("panda", "stool_square_pine", 4, 0, 2, 200),
-              ("panda", "bench_plank_pine", 9, 10, 2, 300),
-              ("sawyer", "table_four_leg_lack", 4, 0, 2, 250)]
+COMPLETING = [("panda", "table_four_leg_lack", 4, 5, 2, 250),
+              ("panda", "stool_square_pine", 4, 21, 2, 200),
+              ("panda", "bench_plank_pine", 9, 140, 2, 300),
+              ("sawyer", "table_four_leg_lack", 4, 21, 2, 250)]
 
 
 def _last_part_env(furniture, layouts, robot="panda"):

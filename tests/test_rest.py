@@ -38,10 +38,12 @@ FAMILY_SAMPLE = [max(sorted(n for n in catalog.names(category=c) if catalog.entr
 WORK_TABLE_SAMPLE = [("stool_round_four_leg", 2), ("table_four_leg_w75_black", 2),
                      ("stool_pedestal_birch_bar", 2), ("chair_back_white_round", 2),
                      ("box_open_kuggis", 0)]
-# (model, seed) with the Baxter: a TV unit's 0.78 m panels standing in the rack, which its
-# forearms touched where they hang at home (seeds 1, 5), and a table (parts lying low).
+# (model, seed) with the Baxter: a TV unit's panels standing in the rack (0.78 m tall built
+# on its side, where its forearms hang at home and touched them at seeds 1 and 5; 0.2 m
+# built on its front, tasks/arm_placement.root_rest), a dresser's 0.44 m panels, and a
+# table (parts lying low).
 BAXTER_SAMPLE = [("tv_unit_open_dark_long", 1), ("tv_unit_open_dark_long", 5),
-                 ("table_four_leg_lack", 0)]
+                 ("dresser_chest_four_wide_dark", 1), ("table_four_leg_lack", 0)]
 
 
 def _check_at_rest(name, robot, seed, **options):
@@ -165,8 +167,10 @@ def _touching_the_robot(env, robot):
 @pytest.mark.parametrize("name,seeds", [
     # The torso is 0.67 m wide: a 0.8 m bed rail drawn beside it lay against it and was pushed.
     ("bed_slatted_kids_dark_open", (1, 2)),
-    # The arms hang at home over the band: the forearms touched 0.78 m panels in the rack.
-    ("tv_unit_open_dark_long", (1, 5, 8))])
+    # The arms hang at home over the band: the forearms touched 0.78 m panels in the rack
+    # (a TV unit built on its side); a dresser racks 0.44 m panels.
+    ("tv_unit_open_dark_long", (1, 5, 8)),
+    ("dresser_chest_four_wide_dark", (1, 5, 8))])
 def test_no_part_starts_against_the_baxter(name, seeds):
   env = ikea_suite.load(name, "baxter", seed=seeds[0], scale=0.5)
   for seed in seeds:

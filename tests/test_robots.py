@@ -174,3 +174,24 @@ def test_wrist_camera_observable_on_request(gl):
   for side in ("right", "left"):
     image = timestep.observation[f"cameras/{side}_wrist_rgb"]
     assert image.shape == (32, 40, 3) and image.std() > 0
+
+
+def test_contacts_at_reports_what_the_arm_would_touch_without_moving_it():
+  env = ikea_suite.load("chair_back_dark_bar", "sawyer", scale=0.5, seed=1000)
+  env.reset()
+  robot, physics = env.task.robot, env.physics
+  home = robot.arm_qpos(physics)
+  before = physics.data.qpos.copy()
+  assert robot.contacts_at(physics, home) == []
+  down = home.copy()
+  down[1] += 1.5   # the shoulder pitched down: the forearm and the hand into the floor
+  floor = physics.model.name2id("world", "body")
+  touched = robot.contacts_at(physics, down)
+  links = {physics.model.id2name(g, "geom") for g, body, depth in touched
+           if body == floor and depth > 0.0}
+  assert "sawyer/right_l4_2_col0" in links
+  arm_only = {physics.model.id2name(g, "geom") for g, _, _ in robot.contacts_at(
+      physics, down, hand=False)}
+  assert "sawyer/right_l4_2_col0" in arm_only
+  assert not any("finger" in name or "gripper" in name for name in arm_only)
+  np.testing.assert_array_equal(physics.data.qpos, before)   # nothing moved

@@ -319,3 +319,45 @@ def test_a_lift_or_roll_out_of_time_sets_the_chair_down_before_letting_go():
   action[:6], action[6] = over(servo), over.gripper()
   assert over.step == turn_over.Step.LOWER and over.failed
   assert over.gripper() > 0.0   # still held while it goes down
+
+
+def test_a_stalled_backing_out_goes_up_and_then_ends_before_the_step_budget():
+  # Pressed against the floor beside the chair, the Sawyer's hand stood 4 cm from where it
+  # backed out to for the whole budget of 250 steps, then as long going up; unwinding
+  # from low beside the chair knocked it over.
+  env = _env()
+  _legs_joined(env, 4)
+  over = _turn_over_started(env)
+  over.step, over._count = turn_over.Step.OUT, 0
+  over._set_out()
+  over._out = over._out + [0.0, 0.0, -1.0]   # into the floor: it comes no nearer
+  servo = arm_motion.PoseServo()
+  calls = 0
+  while over.step == turn_over.Step.OUT:   # the arm does not move: no step is taken
+    over(servo)
+    calls += 1
+  assert over.step == turn_over.Step.UP
+  assert calls <= turn_over.STALL_STEPS + 2 < over._budget
+  while over.step == turn_over.Step.UP:
+    over(servo)
+    calls += 1
+  assert over.step == turn_over.Step.DONE
+  assert calls <= 2 * (turn_over.STALL_STEPS + 2)
+
+
+def test_the_arm_takes_a_leg_where_it_touches_nothing_on_its_way_in():
+  # Sawyer, chair_back_dark_bar, tuning seed 1000: reaching round low for the far leg its
+  # forearm pressed into the floor and its upper arm into an upturned leg, 4 cm short of
+  # the standoff. The handle and its height are now chosen where the servo's own path to
+  # the standoff and the leg leaves the arm's links touching nothing.
+  env = ikea_suite.load("chair_back_dark_bar", "sawyer", scale=0.5, seed=1000)
+  env.reset()
+  _legs_joined(env, 4)
+  over = _turn_over_started(env)
+  robot, physics = env.task.robot, env.physics
+  q = robot.arm_qpos(physics)
+  for goal in (over._point - turn_over.STANDOFF * over._approach, over._point):
+    q, distance, _ = arm_motion.servo_path_end(robot, 0, q, goal, over._rot,
+                                               env.control_timestep())
+    assert distance < 0.02
+    assert robot.contacts_at(physics, q, hand=False) == []

@@ -257,7 +257,10 @@ class BatchArmAssembly(worlds.BatchWorlds):
     """
     a, lay = self._a, self._layouts
     rng, key = jax.random.split(rng)
-    k = jax.random.randint(key, (), 0, lay["part_qpos"].shape[0])
+    # int32 whatever the precision: jax draws other integers under x64, so the same key
+    # would start a world from another layout on MJX's JAX implementation (and the host
+    # physics) than on Warp.
+    k = jax.random.randint(key, (), 0, lay["part_qpos"].shape[0], dtype=jnp.int32)
     data = self._data0
     qpos = a["home_qpos"].at[self._tables.part_qpos].set(lay["part_qpos"][k])
     data = data.replace(qpos=qpos, qvel=jnp.zeros_like(data.qvel), ctrl=a["home_ctrl"],

@@ -36,10 +36,24 @@ SLOT_OUT = 2.0
 STANDOFF = 0.12
 # The hand passes this far (m) over the assembly on its way to the standoff.
 OVER_CLEARANCE = 0.08
+# The grasp rises this far (m) at a time up a leg the arm, taking it lower, would touch
+# the floor or the assembly at; a handle touched at every height costs COLLIDES more
+# (metres of pose error, as the reach checks count them), and a raised grasp RAISED per
+# metre raised: taken higher, the chair hangs farther below the roll's axis and twists
+# harder in the fingers as it rolls, so a leg the arm takes low without touching
+# anything comes first.
+RAISE, COLLIDES, RAISED = 0.03, 1.0, 10.0
 # A leg the hand, going in, has pushed this far (m) is given up: the hand followed the
 # leg it pushed and slid the chair 0.55 m out, beyond the reach the back needs
 # (chair_back_dark_bar, chair_back_white_round, chair_frame_back_black_tall).
 PUSHED = 0.02
+# The hand backing out empty (_WATCHED) that comes no nearer its goal for this many
+# control steps has stalled, as past the step budget: the Sawyer's, pressed against the
+# floor beside the chair, stood 4 cm from where it backed out to for the whole budget of
+# 250, and as long again going up. The way in is left its budget: the Panda's hand crept
+# the last centimetres to its standoff for 96 steps and then took the chair over.
+STALL_STEPS = 40
+
 # Rad the hand rolls per control step (about 20 degrees a second at 20 Hz).
 ROLL_STEP = 0.02
 # A roll that stops this short (rad) of the half turn, the hand no longer following for
@@ -120,6 +134,10 @@ class Step(enum.Enum):
   DONE = "done"
 
 
+# The steps a stall ends early (STALL_STEPS): the empty hand's way out.
+_WATCHED = (Step.OUT, Step.UP)
+
+
 class TurnOver(arm_skill.SteppedSkill):
   """One arm's turn-over of the root's group: call `start`, then each control step
   `__call__` for the tool goal; `step` says where it is, `failed` whether it gave up.
@@ -148,34 +166,67 @@ class TurnOver(arm_skill.SteppedSkill):
     self._rolled, self._roll_idle = 0.0, 0   # rad rolled so far; steps the hand lagged the roll
     self._out = None   # where the hand backs out to, along the approach
     self._leg_at = None   # (x, y) of the leg as the hand went in (PUSHED)
+    self._watch = arm_motion.ProgressWatch(window=STALL_STEPS)
+    self._watched = None   # the step _watch follows
 
   def _group(self):
     return part_geometry.root_group(self._env.task)
 
-  def _plan(self, part, approach, closing):
-    """(grasp position, grasp rotation, lift height) for a handle, or None when the legs
-    are too short to hold above the rest of the assembly (the root handle is taken as
-    low as the hand allows)."""
+  def _plan(self, part, approach, closing, q):
+    """(grasp position, grasp rotation, lift height, cost of the way there) for a handle,
+    the arm's joints at `q` now, or None when the legs are too short to hold above the rest
+    of the assembly (the root handle is taken as low as the hand allows). The grasp rises
+    up the leg by RAISE until the arm's links, following the servo's own path over the
+    assembly, out to the standoff and in to the leg, touch nothing there
+    (Manipulator.contacts_at); the cost is RAISED per metre raised, and COLLIDES more
+    where they touch something at every height."""
     physics, furniture = self._env.physics, self._env.task.furniture
-    root = self._env.task.root_part
+    robot, root = self._env.task.robot, self._env.task.root_part
     pos, _ = part_geometry.part_pose(physics, furniture, part)
     rot = arm_motion.tool_rotation(approach, closing, self._closing_local)
     handle_top = part_geometry.parts_corners(physics, furniture, [part])[:, 2].max()
     height = self._surface + HAND_CLEARANCE + arm_motion.hand_below_tool(
-        self._env.task.robot, physics, self._arm, rot)
+        robot, physics, self._arm, rot)
     if part != root:
       height = max(height,
                    part_geometry.parts_corners(physics, furniture, [root])[:, 2].max() + OVER_SEAT)
     if height > handle_top - 0.02:
       return None
-    point = np.array([pos[0], pos[1], height])
+    # The arm's links, not the hand (its clearance is HAND_CLEARANCE and OVER_SEAT):
+    # followed along the servo's path, from here over the chair to the standoff, then in,
+    # and judged where the path ends at its goal. One that ends short says nothing of
+    # where the arm will be: from the Panda's home it wound the first two joints to their
+    # limits 0.17 m short, with the forearm in the legs, where the arm itself took that
+    # leg well (chair_back_ivar). What counts is the floor, the fixtures and the assembly;
+    # brushing a loose part (the back in its rack) did not stop the Panda.
+    group = set(self._group())
+    loose = {int(furniture.body_ids[p]) for p in range(len(furniture.spec.parts))
+             if p not in group}
+    dt = self._env.control_timestep()
+    standoff = pos[:2] - STANDOFF * approach[:2]
+    q, _, _ = arm_motion.servo_path_end(robot, self._arm, q, np.array(
+        [*standoff, self._over_height(rot)]), rot, dt)
+    best, lowest = None, height
+    for height in np.arange(lowest, handle_top - 0.02 + 1e-9, RAISE):
+      point = np.array([pos[0], pos[1], height])
+      at, cost = q, RAISED * (height - lowest)
+      for goal in (point - STANDOFF * approach, point):
+        at, distance, angle = arm_motion.servo_path_end(robot, self._arm, at, goal, rot, dt)
+        if distance < 0.02 and angle < 0.05 and any(
+            body not in loose for _, body, _ in robot.contacts_at(physics, at, hand=False)):
+          cost += COLLIDES
+      if best is None or cost < best[0]:
+        best = (cost, point)
+      if cost < COLLIDES:   # touches nothing: no higher
+        break
+    cost, point = best
     # Lifted by `lift`, every corner swings about the approach axis through the grasp
     # point at most `reach` from it, and clears the surface by ROLL_CLEARANCE.
     corners = part_geometry.parts_corners(physics, furniture, self._group()) - point
     across = corners - np.outer(corners @ approach, approach)
     reach = np.linalg.norm(across, axis=1).max()
-    lift = max(0.0, self._surface + ROLL_CLEARANCE + reach - height)
-    return point, rot, lift
+    lift = max(0.0, self._surface + ROLL_CLEARANCE + reach - point[2])
+    return point, rot, lift, cost
 
   def start(self, closing_local):
     """Chooses the handle and grasp the arm reaches best (grasp, lifted, half-rolled and
@@ -193,11 +244,12 @@ class TurnOver(arm_skill.SteppedSkill):
     options = [h for h in every if (h[0], tuple(np.round(h[1], 1))) not in self._failed_handles]
     if not options:   # every one has failed once: try them all again
       self._failed_handles, options = set(), every
+    q = robot.arm_qpos(physics)
     for part, approach, closing in options:
-      plan = self._plan(part, approach, closing)
+      plan = self._plan(part, approach, closing, q)
       if plan is None:
         continue
-      point, rot, lift = plan
+      point, rot, lift, way = plan
       for sign in (1.0, -1.0):
         up = point + [0.0, 0.0, lift]
         poses = [(point - STANDOFF * approach, rot), (point, rot), (up, rot),
@@ -208,7 +260,7 @@ class TurnOver(arm_skill.SteppedSkill):
         # arm: rolled in to 0.27-0.32 m of the base, the back's carry stalled with the
         # elbow at its limit; on the far side of the seat, with the wrist at its limit.
         rolled = point + (slots - point) @ geometry.axis_angle_to_mat(np.pi * approach).T
-        cost = SLOT_OUT * np.abs(np.linalg.norm(rolled[:, :2] - base[:2], axis=1)
+        cost = way + SLOT_OUT * np.abs(np.linalg.norm(rolled[:, :2] - base[:2], axis=1)
                                  - np.linalg.norm(centre[:2] - base[:2])).mean()
         cost += 2.0 * arm_motion.cramped(base, point, approach)
         # The waiting part then goes in from above: rolled over a near leg, the back's slot
@@ -297,15 +349,21 @@ class TurnOver(arm_skill.SteppedSkill):
         self._rolled, near = self._measured_roll(), True   # set down as far as it turned
     if self.step in (Step.CLOSE, Step.OPEN):
       near = self._fingers_done()
+    if self.step != self._watched:
+      self._watched = self.step
+      self._watch.reset()
+    stalled = self.step in _WATCHED and self._watch.stalled(distance, angle)
     if near:
       self._next()
-    elif self._count > self._budget:
+    elif self._count > self._budget or stalled:
       if self.step not in (Step.OPEN, Step.OUT, Step.UP):
         self._give_up()
       if self.step in (Step.LIFT, Step.ROLL):   # set down, not dropped from the lift height
         self.step, self._rolled = Step.LOWER, self._measured_roll()
+      elif self.step == Step.OUT:   # up from where it stopped, not home from low beside
+        self.step = Step.UP         # the chair: unwinding from there knocked it over
       else:
-        self.step = Step.DONE if self.step in (Step.OUT, Step.UP) else Step.OPEN
+        self.step = Step.DONE if self.step == Step.UP else Step.OPEN
         self._set_out()
       self._count = 0
     return action
@@ -316,12 +374,13 @@ class TurnOver(arm_skill.SteppedSkill):
     turned = geometry.mat_to_axis_angle(rot @ self._rot.T) @ self._approach
     return float(np.clip(self._sign * turned, 0.0, np.pi))
 
-  def _over_height(self):
+  def _over_height(self, rot=None):
     """Tool height at which the hand, pointing sideways, passes OVER_CLEARANCE over the
     assembly: at the open fingers' safe height its body reached 9 cm lower and struck the
     upturned legs; the chair moved 3-21 cm in 52 of 226 such moves (twenty episodes)."""
     env = self._env
-    below = arm_motion.hand_below_tool(env.task.robot, env.physics, self._arm, self._rot)
+    below = arm_motion.hand_below_tool(env.task.robot, env.physics, self._arm,
+                                       self._rot if rot is None else rot)
     return max(self._route.safe_height(OVER_CLEARANCE),
                self._route.assembly_top() + OVER_CLEARANCE + below)
 

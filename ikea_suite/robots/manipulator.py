@@ -287,6 +287,7 @@ class Manipulator(base.Robot):
     self._finger_command = [(act, list(zip(*rows))) for act, *rows in zip(
         self._finger_act.tolist(), opened.tolist(), travel.tolist())]
     self._tcp_ids = np.array(bind([a.gripper.tcp_site for a in self._arms]).element_id)
+    self._scratch = None   # (model, MjData, the robot's geoms, those behind its hands)
     # What the per-step paths read and write, as kept views and slices where they can be;
     # one assignment writes every arm's joint targets from the IK's joint vector.
     self._arrays = mujoco_arrays.ArrayViews("qpos", "qvel", "ctrl", "site_xpos", "site_xmat")
@@ -436,6 +437,45 @@ class Manipulator(base.Robot):
     miss = (np.linalg.norm(pos - targets[arm][0])
             + 0.2 * np.linalg.norm(geometry.mat_to_axis_angle(rot @ targets[arm][1].T)))
     return float(miss), margin, float(np.linalg.norm(solution - q))
+
+  def contacts_at(self, physics, q, hand=True):
+    """What the robot would touch with its IK joints at `q` (an arm_qpos vector) and
+    everything else where it is now: MuJoCo's own collision check, in a scratch copy of
+    the state; nothing moves. The IK knows no obstacles: it put the Sawyer's forearm into
+    the floor beside a chair it reached round low, and the arm stopped there.
+
+    Args:
+      physics: the environment's physics.
+      q: joint positions of every arm joint the IK drives, in IK order.
+      hand: whether to count the hands' own contacts too (the bodies that move with a
+        tool: its last link, the gripper and fingers), or only the links behind them.
+
+    Returns:
+      [(robot geom id, other body id, metres the two overlap)], one per contact with
+      something that is not the robot.
+    """
+    model = physics.model
+    if self._scratch is None or self._scratch[0] is not model:
+      geoms = np.array(physics.bind(self.mjcf_model.find_all("geom")).element_id)
+      hands = set(model.body_weldid[model.site_bodyid[self._tcp_ids]].tolist())
+      in_hand = np.zeros(model.nbody, dtype=bool)
+      for body in range(1, model.nbody):   # parents come before their children
+        in_hand[body] = body in hands or in_hand[model.body_parentid[body]]
+      self._scratch = (model, mujoco.MjData(model.ptr), set(geoms.tolist()),
+                       set(geoms[~in_hand[model.geom_bodyid[geoms]]].tolist()))
+    _, data, mine, links = self._scratch
+    data.qpos[:] = physics.data.qpos
+    data.qpos[self._ik_to_qpos] = q
+    mujoco.mj_fwdPosition(model.ptr, data)
+    out = []
+    contacts = data.contact
+    for a, b, dist in zip(contacts.geom1.tolist(), contacts.geom2.tolist(), contacts.dist.tolist()):
+      if (a in mine) == (b in mine):
+        continue
+      robot_geom, other = (a, b) if a in mine else (b, a)
+      if hand or robot_geom in links:
+        out.append((robot_geom, int(model.geom_bodyid[other]), -dist))
+    return out
 
   @property
   def finger_actuator_ids(self):

@@ -2,7 +2,9 @@
 
 The root part (the one everything is built onto) lies in front of the
 robot, turned over when its mates attach from below (a table top is
-assembled upside down, as people do), so its open connectors face up. The
+assembled upside down, as people do), so its open connectors face up; a
+carcass that would stand tall panels in the rack is built on its front or
+back instead, its side standing on its long edge (root_rest). The
 other parts are scattered without overlap in a sector around the base from
 `min_distance` out to `reach`. Furniture too large for that band spills
 outwards instead of failing, so every furniture loads with every robot.
@@ -37,6 +39,73 @@ from ikea_suite.tasks import resting
 # about as far either way (0.09 m nearer for a 120 cm top, which the Sawyer completed
 # on 17 of 20 fresh seeds lying along the radius and on 14 of 20 across it).
 ROOT_FAR, ROOT_GAIN = 0.9, 0.1
+
+
+# A carcass whose root lies on its face stands its shelves and back in the rack as tall as
+# the carcass is wide: taller than TALL_PANEL (m), a panel held 20 mm by its top edge swings
+# out of the grip as the carry speeds up, and its top lies beyond the Panda's reach (the
+# open TV units' 0.58-0.78 m shelves at half scale). Such a root lies on its long edge
+# instead (the carcass on its back or front) where that stands every racked panel lower
+# and the root comes to rest standing so.
+TALL_PANEL = 0.4
+
+
+def _tallest_racked(spec, root, rest):
+  """Height (m) of the tallest panel racked for the root lying at `rest` (0: none)."""
+  return max((float(np.ptp((geometry.box_corners(*spec.parts[i].bounds) @ rot.T)[:, 2]))
+              for i, rot in panel_placement.upright_panels(spec, root, rest)), default=0.0)
+
+
+def _face_up(spec, table, root, rest):
+  """`rest`, turned over when the root's mates would attach from below lying so."""
+  return geometry.HALF_TURN_X @ rest if mates_from_below(spec, table, root, rest) else rest
+
+
+def root_rest(spec, table, root):
+  """How the root part lies while the furniture is built onto it, before its yaw.
+
+  On its largest face (placement.resting_rotation), turned over when its mates attach from
+  below. A carcass lying so that would rack a panel taller than TALL_PANEL lies instead on
+  the root's long edge, the side its mates attach from up, when that racks every panel
+  lower and the root stands at rest on that edge (a bookcase's or TV unit's side stands on
+  its back or front edge, the shelves standing as tall as the carcass is deep). A root on
+  its edge is turned a quarter turn about the vertical, so that the carcass, which grows
+  along the root's thin axis, grows across the arm's heading rather than towards or away
+  from its base.
+
+  Args:
+    spec: the FurnitureSpec.
+    table: the furniture's connector table.
+    root: the root part's index (planner.root_part).
+  Returns:
+    (rotation (3, 3), part to world; whether the root stands on its edge).
+  """
+  bounds = spec.parts[root].bounds
+  rest = _face_up(spec, table, root, placement.resting_rotation(bounds))
+  tallest = _tallest_racked(spec, root, rest)
+  if tallest <= TALL_PANEL:
+    return rest, False
+  middle = int(np.argsort(bounds[1] - bounds[0])[1])
+  edge = geometry.rot_z(np.pi / 2) @ _face_up(spec, table, root, placement.LIE_ON[middle])
+  if (_tallest_racked(spec, root, edge) < tallest
+      and resting.rests_on_support(spec, {root: edge})[root].position is None):
+    return edge, True
+  return rest, False
+
+
+def assembled_footprint(spec, root, rest):
+  """Where the assembled furniture lies around its root lying at `rest` (3, 3): (its
+  footprint's centre (2,) less the root's, horizontal, m; its footprint's radius, m)."""
+  design_to_world = rest @ spec.parts[root].rot.T
+
+  def flat(corners):
+    return corners @ design_to_world.T
+
+  every = flat(np.concatenate([p.assembled_corners() for p in spec.parts]))[:, :2]
+  centre = (every.max(0) + every.min(0)) / 2
+  own = flat(spec.parts[root].assembled_corners())[:, :2]
+  return centre - (own.max(0) + own.min(0)) / 2, float(np.linalg.norm(every - centre,
+                                                                      axis=1).max())
 
 
 def mates_from_below(spec, table, root, rest):
@@ -112,10 +181,13 @@ class ReachableParts(placement.PartInitializer):
     self._groups = placement.PartGroups(furniture, preassembled)
     spec = furniture.spec
     self._root = planner.root_part(spec)
-    rest = placement.resting_rotation(spec.parts[self._root].bounds)
-    if mates_from_below(spec, furniture.connectors, self._root, rest):
-      rest = geometry.HALF_TURN_X @ rest
-    self._root_rest = self._across_if_far(furniture.connectors, rest, reach)
+    rest, on_edge = root_rest(spec, furniture.connectors, self._root)
+    # A root on its edge grows a carcass beside it: the carcass, not the root, is centred
+    # where the root would lie, and its whole footprint is kept clear of the other parts.
+    self._root_rest = rest if on_edge else self._across_if_far(furniture.connectors, rest,
+                                                               reach)
+    self._build_footprint = (assembled_footprint(spec, self._root, rest) if on_edge
+                             else None)
     # Any yaw of the lying root fits within the disc of its half-diagonal.
     root_radius = np.linalg.norm(np.ptp(
         geometry.box_corners(*spec.parts[self._root].bounds) @ self._root_rest.T, axis=0)[:2]) / 2
@@ -227,8 +299,12 @@ class ReachableParts(placement.PartInitializer):
       if distance > self._support.farthest_from(self._base_xy):
         raise composer.EpisodeInitializationError(
             f"the root part (radius {radius:.2f} m) does not fit on the work table")
-    self._place(physics, root_item, yaw_rot, xy)
     placed = [(xy, radius)]
+    if self._build_footprint is not None and len(root_item) == 1:
+      shift, build_radius = self._build_footprint
+      placed = [(xy, build_radius)]
+      xy = xy - yaw_rot[:2, :2] @ shift
+    self._place(physics, root_item, yaw_rot, xy)
     racked = set(self.racked_parts) & {item[0][0] for item in items if len(item) == 1}
     for side, racked_panels in self._racks:   # each across a radius from the base, in the band
       radius = racked_panels.radius

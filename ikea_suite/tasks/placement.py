@@ -17,14 +17,15 @@ from ikea_suite.tasks import resting
 
 CLEARANCE = 0.15   # m from the assembled furniture's radius to the ring parts lie in
 GAP = 0.03         # m, least gap between two placed parts
-_LIE_FLAT = {0: np.array([[0.0, 0, -1], [0, 1, 0], [1, 0, 0]]),   # part x axis to world z
-             1: np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]]),   # part y axis to world z
-             2: np.eye(3)}
+# part axis -> a rotation turning that axis of the part to world z
+LIE_ON = {0: np.array([[0.0, 0, -1], [0, 1, 0], [1, 0, 0]]),   # part x axis to world z
+          1: np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]]),   # part y axis to world z
+          2: np.eye(3)}
 
 
 def resting_rotation(bounds):
   """Rotation laying a part on its largest face: its thinnest extent becomes vertical."""
-  return _LIE_FLAT[int(np.argmin(bounds[1] - bounds[0]))]
+  return LIE_ON[int(np.argmin(bounds[1] - bounds[0]))]
 
 
 def lying_rests(spec):
