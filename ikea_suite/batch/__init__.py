@@ -1,5 +1,5 @@
-"""ikea_suite.batch: the assembly task for the Cursor agent or a single arm (the Panda, the
-Sawyer) in thousands of worlds with MJX.
+"""ikea_suite.batch: the assembly task for the Cursor agent or a single arm
+(arm_env.ROBOTS) in thousands of worlds with MJX.
 
     import jax, ikea_suite.batch
     env = ikea_suite.batch.load("table_four_leg_lack", num_worlds=1024)
@@ -24,7 +24,7 @@ __all__ = ["BatchAssembly", "State", "load", "make_vector_env"]
 
 def make_vector_env(furniture="table_four_leg_lack", num_envs=1, **options):
   """A gymnasium.vector.VectorEnv of `num_envs` batched worlds (see gym_vector.AssemblyVectorEnv);
-  usable as the `vector_entry_point` of "ikea_suite/Assembly-v0". robot="panda" or "sawyer"
-  among the options gives the batched arm (batch/arm_env.py)."""
+  usable as the `vector_entry_point` of "ikea_suite/Assembly-v0". An arm of
+  arm_env.ROBOTS as the `robot` option gives the batched arm (batch/arm_env.py)."""
   from ikea_suite.batch import gym_vector   # gymnasium is only needed here
   return gym_vector.AssemblyVectorEnv(furniture, num_envs, **options)

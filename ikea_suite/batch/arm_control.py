@@ -177,8 +177,12 @@ def ik_step(chain_, q, target_pos, target_rot, home, low, high, max_step):
   # whole-turn equivalent nearest it, as DifferentialIK.posture_near does.
   endless = jnp.isinf(low) & jnp.isinf(high)
   home = jnp.where(endless, home + 2 * jnp.pi * jnp.round((q - home) / (2 * jnp.pi)), home)
-  error = frame_error(chain_, q, target_pos, target_rot)
-  jac = jax.jacfwd(frame_error, argnums=1)(chain_, q, target_pos, target_rot)   # (6, n)
+
+  def error_and_value(x):   # the error, and again as jacfwd's aux: one kinematics pass
+    error = frame_error(chain_, x, target_pos, target_rot)
+    return error, error
+
+  jac, error = jax.jacfwd(error_and_value, has_aux=True)(q)   # (6, n), (6,)
   weight = jnp.array([POSITION_COST] * 3 + [ORIENTATION_COST] * 3) ** 2
   n = q.shape[0]
   hessian = jac.T @ (weight[:, None] * jac) + (POSTURE_COST ** 2 + DAMPING) * jnp.eye(n)
@@ -223,13 +227,13 @@ def box_qp(hessian, gradient, lower, upper, iterations=BOX_QP_ITERATIONS):
     return jnp.max(jnp.abs(x - jnp.clip(x - (hessian @ x - gradient), lower, upper)))
 
   def unsettled(carry):
-    x, done = carry
-    return (stationarity(x) > 1e-10) & (done < iterations)
+    _, residual, done = carry
+    return (residual > 1e-10) & (done < iterations)
 
   def one_iteration(carry):
-    x, done = carry
+    x, residual, done = carry
     slope = hessian @ x - gradient
-    margin = jnp.minimum(1e-6, stationarity(x))
+    margin = jnp.minimum(1e-6, residual)
     held = ((x <= lower + margin) & (slope > 0.0)) | ((x >= upper - margin) & (slope < 0.0))
     free = ~held
     both_free = free[:, None] & free[None, :]
@@ -240,10 +244,11 @@ def box_qp(hessian, gradient, lower, upper, iterations=BOX_QP_ITERATIONS):
     enough = values <= objective(x) + _ARMIJO * (trials - x[None, :]) @ slope
     first = jnp.argmax(enough)
     x = jnp.where(enough[first], trials[first], x)
-    return x, done + 1
+    return x, stationarity(x), done + 1
 
   start = jnp.clip(jnp.zeros_like(gradient), lower, upper)
-  x, _ = jax.lax.while_loop(unsettled, one_iteration, (start, jnp.array(0)))
+  x, _, _ = jax.lax.while_loop(unsettled, one_iteration,
+                               (start, stationarity(start), jnp.array(0)))
   return x
 
 

@@ -116,7 +116,7 @@ class BatchArmAssembly(worlds.BatchWorlds):
 
   Args:
     furniture: catalog name or model file path.
-    robot: one of ROBOTS ("panda", "sawyer").
+    robot: one of ROBOTS.
     impl: "warp", "jax" or None (see BatchAssembly).
     num_worlds: worlds stepped together (sizes Warp's buffers; unused by jax).
     layouts: CPU episode starts recorded for the resets (arm_model.Layouts).
@@ -402,7 +402,7 @@ def load(furniture="table_four_leg_lack", robot="panda", impl=None, num_worlds=N
 
   Args:
     furniture: catalog name or model file path.
-    robot: one of ROBOTS ("panda", "sawyer").
+    robot: one of ROBOTS.
     impl: "warp", "jax" or None (warp on a GPU with warp-lang, else jax).
     num_worlds: worlds to be stepped together (Warp buffer sizing).
     buffer_sizes: (nconmax, njmax) per world for Warp instead of the measured sizing.

@@ -224,8 +224,7 @@ def load(furniture="table_four_leg_lack", impl=None, num_worlds=None, buffer_siz
     impl: "warp", "jax" or None (warp on a GPU with warp-lang, else jax).
     num_worlds: worlds to be stepped together (Warp buffer sizing).
     buffer_sizes: (nconmax, njmax) per world for Warp instead of the measured sizing.
-    robot: "cursor", or an arm of arm_env.ROBOTS ("panda", "sawyer": an
-      arm_env.BatchArmAssembly).
+    robot: "cursor", or an arm of arm_env.ROBOTS (an arm_env.BatchArmAssembly).
     **options: ikea_suite.load's task options, see settings.OPTIONS (arm_env.OPTIONS for
       an arm).
 
