@@ -11,8 +11,8 @@
 Built from the same model file, physics configuration, thresholds, rewards
 and time limits as ikea_suite.load; the whole task (cursors, holding,
 alignment, connect, groups, rewards, termination, placement) runs on the
-device. Needs the `batch` (CPU) or `gpu` extra. See README, "Thousands of
-worlds on one GPU", for what differs from the CPU task.
+device. Needs the `batch` (CPU) or `gpu` extra. See docs/batch.md for what differs
+from the CPU task.
 """
 
 from ikea_suite.batch.env import BatchAssembly
