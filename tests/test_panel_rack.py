@@ -10,6 +10,7 @@ from ikea_suite.experts import gripper_fit
 from ikea_suite.experts import mating
 from ikea_suite.experts import part_geometry
 from ikea_suite.experts import single_arm
+from ikea_suite.experts import top_down_grasp
 from ikea_suite.props import panel_rack
 from ikea_suite.robots import grippers
 from ikea_suite.tasks import panel_placement
@@ -124,6 +125,53 @@ def test_a_wide_panel_that_lies_flat_in_the_furniture_stands_on_its_long_edge(fu
   _, assembled = part_geometry.assembled_pose(env.physics, env.task.furniture,
                                               env.task.root_part, index)
   assert abs(assembled[2, thin]) > 0.99   # and lies flat once assembled
+
+
+def test_only_a_part_of_bars_is_a_frame():
+  spec = _env("shelving_posts_white_low").task.furniture.spec
+  frames = [p.name for p in spec.parts if panel_placement.is_frame(p)]
+  assert frames == ["ladder0", "ladder1"]   # two posts and two crossbars; not the shelves
+  for furniture in ("box_open_small_white", "table_four_leg_lack"):   # plates, single legs
+    assert not any(panel_placement.is_frame(p) for p in _env(furniture).task.furniture.spec.parts)
+
+
+def test_a_wide_frame_that_lies_flat_in_the_furniture_lies_on_the_floor_as_it_lies_there():
+  # A shelving ladder, stood on its long edge in the rack, had to be turned flat on its
+  # way in, which the Panda's wrist could not do over the shelves; lying on the floor as
+  # it will lie on them, its post is taken from above and it goes in turned only about
+  # the vertical.
+  env = _env("shelving_posts_white_low", seed=1000)
+  spec, task = env.task.furniture.spec, env.task
+  far = spec.part_index("ladder1")
+  assert far not in task.initializer.racked_parts
+  assert _racked_names(env) == ["shelf0", "shelf1", "shelf2"]
+  assert [i for i, _ in panel_placement.flat_frames(spec, task.root_part,
+                                                    task.initializer._root_rest)] == [far]
+  positions, rotations = task.furniture.part_poses(env.physics)
+  _, assembled = part_geometry.assembled_pose(env.physics, task.furniture, task.root_part, far)
+  thin = int(np.argmin(np.ptp(spec.parts[far].bounds, axis=0)))
+  assert rotations[far][2, thin] == pytest.approx(assembled[2, thin], abs=0.02)   # same face up
+  assert abs(rotations[far][2, thin]) > 0.99
+  corners = geometry.box_corners(*spec.parts[far].bounds) @ rotations[far].T + positions[far]
+  assert corners[:, 2].min() == pytest.approx(0.0, abs=3e-3)   # lying on the floor
+
+
+def test_a_frame_is_taken_by_its_longest_bar_clear_of_its_connectors():
+  env = _env("shelving_posts_white_low", seed=1000)
+  expert = experts.make_expert(env, require_supported=False)
+  furniture, physics = env.task.furniture, env.physics
+  far = furniture.spec.part_index("ladder1")
+  point, rot = expert._grasps.pose(far, 1.0)
+  position, part_rot = part_geometry.part_pose(physics, furniture, far)
+  local = part_rot.T @ (point - position)
+  bounds = furniture.spec.parts[far].bounds
+  thin, across, along = np.argsort(bounds[1] - bounds[0])
+  post = abs(bounds[1][across]) - 0.0125 * furniture.spec.scale   # a post's axis (radius 12.5 mm)
+  assert abs(abs(local[across]) - post) < 0.005   # over a post, not the open middle
+  connectors = furniture.connectors.local_pos[furniture.connectors.part == far][:, along]
+  assert np.abs(connectors - local[along]).min() >= top_down_grasp.FLAT_EDGE_CLEAR - 1e-3
+  closing = rot @ expert.closing_local()
+  assert abs(closing @ part_rot[:, along]) < 1e-6   # the fingers close across the post
 
 
 def test_walls_in_the_rack_fit_fingers_that_close_fully_and_are_too_thin_for_slot_2(

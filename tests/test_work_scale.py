@@ -19,6 +19,18 @@ def test_stools_and_bookcases_stay_at_the_work_scale_and_beds_get_their_fit():
       "panda"]["bed_slatted_toddler_white"] < 0.5
 
 
+def test_furniture_measured_smaller_for_reach_or_grip_gets_that_scale():
+  # The tall post shelving's far mates lie beyond the Panda's reach at 0.5; the low one
+  # it assembles there, and the Sawyer only at 0.35.
+  assert work_scale.work_scale("panda", "shelving_posts_white_low") == 0.5
+  assert work_scale.work_scale("panda", "shelving_posts_steel_tall") == 0.4
+  assert work_scale.work_scale("sawyer", "shelving_posts_white_low") == 0.35
+  for robot, scales in work_scale.REACH_SCALES.items():
+    for furniture, scale in scales.items():
+      assert 0.2 <= scale < 0.5
+      assert work_scale.fit_scale(robot, furniture) == 0.5   # their parts fit at 0.5
+
+
 def test_fit_scale_is_the_largest_at_which_every_loose_part_fits():
   # The bed's side rails lie flat, wider than the open fingers at 0.5.
   scale = work_scale.fit_scale("panda", "bed_slatted_toddler_white")

@@ -80,6 +80,7 @@ class TopDownGrasp:
     self._surface, self._route = surface, route
     self._finger_points = None   # the open fingers in the tool frame (finger_room)
     self._room_shifts = {}   # (part, grasp sign): finger_room's shift, for the present reach
+    self._frames = {}   # part: whether it is a frame of bars (panel_placement.is_frame)
 
   def new_reach(self):
     """Forgets the grasp points chosen for the last reach."""
@@ -115,13 +116,21 @@ class TopDownGrasp:
         point = part_pos + part_rot @ shift
       tip_clearance = below_work_scale.TIP_CLEARANCE
     point[2] = max(corners[:, 2].min(), self._surface) + route.pad_below + tip_clearance
-    if self.by_top_edge(part):   # at the middle of its top edge, which a lean moves aside
+    edge = self.by_top_edge(part)
+    if not edge and self._is_frame(part):   # along its longest bar, clear of the mates under it
+      long_axis = int(np.argmax(bounds[1] - bounds[0]))
+      base = part_rot.T @ (self._robot.base_pose[0] - part_pos)
+      face = self._clear_of_connectors(part, part_rot.T @ (self._nearest_bar(part) - part_pos),
+                                       long_axis, toward=base[long_axis])
+      point = np.array([*(part_pos + part_rot @ face)[:2], point[2]])
+    if edge:   # at the middle of its top edge, which a lean moves aside
       up = int(np.argmax(np.abs(part_rot[2])))
       face = np.mean(bounds, axis=0)
       face[up] = bounds[int(part_rot[2, up] > 0)][up]
       flat = self.turns_flat(part)
       if flat:
-        face = self._clear_of_connectors(part, face, up)
+        face = self._clear_of_connectors(
+            part, face, ({0, 1, 2} - {up, int(np.argmin(bounds[1] - bounds[0]))}).pop())
       point = part_pos + part_rot @ face
       point[2] += route.pad_below - (self._flat_grip_depth() if flat else EDGE_GRIP)
     closing = part_geometry.across_long_axis(part_rot, bounds) * sign
@@ -156,23 +165,50 @@ class TopDownGrasp:
       self._finger_points = finger_room.finger_points(self._robot, self._env.physics, self._arm)
     return min(FLAT_EDGE_GRIP, np.ptp(self._finger_points[:, 2]) - FLAT_FINGER_ROOT)
 
-  def _clear_of_connectors(self, part, face, up):
-    """`face` (part frame, the middle of the top edge) moved along the top edge to the
-    nearest point FLAT_EDGE_CLEAR from each of its connectors (unmoved with none such on
-    the edge). The edge runs along the part axis that is neither its thickness nor `up`,
-    the one standing up: a round seat's two longest axes tie, and moved along the
-    vertical one the grasp went 3 cm down into the seat, the fingers landing on it."""
+  def _is_frame(self, part):
+    """panel_placement.is_frame of `part`, read once per part."""
+    if part not in self._frames:
+      self._frames[part] = panel_placement.is_frame(self._env.task.furniture.spec.parts[part])
+    return self._frames[part]
+
+  def _nearest_bar(self, part):
+    """World centre of the frame's largest collision geom nearest the robot's base, of those
+    that tie (a shelving ladder's two posts): the first of them, taken whichever lay
+    nearer, put the far post of a ladder lying at the band's edge 0.84 m from the Panda's
+    base, beyond its 0.8 m reach, and every reach stalled."""
+    physics, furniture = self._env.physics, self._env.task.furniture
+    model, data = physics.model, physics.data
+    ids, owner = furniture.collision_geoms
+    geoms = ids[owner == part]
+    sizes = np.array([np.prod(model.geom_aabb[g, 3:]) for g in geoms])
+    base, _ = self._robot.base_pose
+    centres = [data.geom_xpos[g] + data.geom_xmat[g].reshape(3, 3) @ model.geom_aabb[g, :3]
+               for g in geoms[sizes > 0.99 * sizes.max()]]
+    return min(centres, key=lambda centre: np.linalg.norm(centre[:2] - base[:2]))
+
+  def _clear_of_connectors(self, part, face, axis, toward=None):
+    """`face` (part frame: the middle of a racked panel's top edge, or the middle of a
+    frame's longest bar) moved along the part axis `axis` to the nearest point
+    FLAT_EDGE_CLEAR from each of its connectors (unmoved with none such); of two about as
+    near, the one nearer `toward` (a coordinate along `axis`), if given. A racked panel's
+    top edge runs along the part axis that is neither its thickness nor the one standing
+    up: a round seat's two longest axes tie, and moved along the vertical one the grasp
+    went 3 cm down into the seat, the fingers landing on it. Taken at its middle, a
+    shelving ladder's post is gripped where the middle shelf's end meets it."""
     furniture = self._env.task.furniture
     bounds = furniture.spec.parts[part].bounds
     table = furniture.connectors
-    axis = ({0, 1, 2} - {up, int(np.argmin(bounds[1] - bounds[0]))}).pop()
     along = table.local_pos[table.part == part][:, axis]
     candidates = np.arange(bounds[0][axis] + FLAT_EDGE_CLEAR,
                            bounds[1][axis] - FLAT_EDGE_CLEAR, 0.001)
     clear = candidates[(np.abs(candidates[:, None] - along[None, :]) >= FLAT_EDGE_CLEAR).all(1)]
     if clear.size:
       face = face.copy()
-      face[axis] = clear[np.argmin(np.abs(clear - face[axis]))]
+      off = np.abs(clear - face[axis])
+      if toward is not None:   # of the nearest two, either side of the middle, that one
+        clear = clear[off < off.min() + 0.0015]
+        off = np.abs(clear - toward)
+      face[axis] = clear[np.argmin(off)]
     return face
 
   def _room_shift(self, part, sign, point, rot):

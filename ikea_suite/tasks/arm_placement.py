@@ -207,9 +207,13 @@ class ReachableParts(placement.PartInitializer):
               name="panel_rack_" + ("left" if side > 0 else "right")))
           for side, parts in panel_placement.split_by_side(
               spec, self._root, self._root_rest, self._racked.parts)]
-    # Where the parts start: lying parts as ScatteredParts lays them, the root as it lies here.
+    # Where the parts start: lying parts as ScatteredParts lays them, the root as it lies
+    # here, and a flat frame (a shelving ladder) as it lies in the furniture on the root.
     self._rests = dict(self._groups.rests)
     self._rests.update(resting.rests_on_support(spec, {self._root: self._root_rest}))
+    frames = dict(panel_placement.flat_frames(spec, self._root, self._root_rest))
+    if frames:
+      self._rests.update(resting.rests_on_support(spec, frames))
 
   def _across_if_far(self, table, rest, reach):
     """The root's resting rotation `rest`, turned a quarter turn about the vertical when,
@@ -322,6 +326,8 @@ class ReachableParts(placement.PartInitializer):
     for item in items:
       if any(i == self._root for i, _, _ in item) or (len(item) == 1 and item[0][0] in racked):
         continue
+      if len(item) == 1:   # a part alone lies as its rest has it (a flat frame: as assembled)
+        item = [(item[0][0], self._rests[item[0][0]].rotation, np.zeros(3))]
       yaw_rot = geometry.rot_z(random_state.uniform(-self._yaw_range, self._yaw_range))
       corners, _, radius = self._item_footprint(item, yaw_rot)
       xy = self._sample_xy(random_state, radius, placed, self._item_top(corners), side=side)

@@ -10,9 +10,12 @@ Rods and blocks (legs, the parts of every stool and four-leg table in the
 catalog) still lie on the floor, and so does a panel that lies flat when
 assembled and is at most FLAT_WIDE across (a narrow shelf or lid, which a gripper
 takes across lying flat). A wider one (the far side of a bookcase, cabinet or
-dresser built lying on its other side, a shelving ladder, a wide lid) stands in its
-slot on its long edge, so that a gripper takes it across its thickness by that edge
-and turns it flat on the way to its mate (experts/top_down_grasp.py). A round panel
+dresser built lying on its other side, a wide lid) stands in its slot on its long edge,
+so that a gripper takes it across its thickness by that edge and turns it flat on the
+way to its mate (experts/top_down_grasp.py). A wide flat panel that is a frame of bars
+(is_frame: a shelving ladder, two posts joined by crossbars) is not racked: it lies on
+the floor the way up it lies in the furniture (flat_frames), where a gripper takes one
+of its bars from above like a leg and carries it in flat, unturned. A round panel
 (a disc: a round seat, a round table top) stands in a slot with chocks
 (props/panel_rack.py).
 
@@ -54,6 +57,39 @@ def is_panel(extents):
   return bool(low < PANEL_RATIO * middle)
 
 
+def _geom_extents(geom):
+  """(3,) extents (m) of a box, cylinder or capsule <geom> element; None for other types."""
+  size = [float(v) for v in geom.get("size", "").split()]
+  kind = geom.get("type", "sphere")
+  if kind == "box" and len(size) == 3:
+    return 2 * np.array(size)
+  if kind in ("cylinder", "capsule") and len(size) >= 2:
+    return 2 * np.array([size[0], size[0], size[1] + (size[0] if kind == "capsule" else 0.0)])
+  return None
+
+
+def is_frame(part):
+  """Whether a part is a panel (is_panel, by its bounds) that collides through two or more
+  bars and nothing else: each collision geom a box, cylinder or capsule whose middle
+  extent is under PANEL_RATIO of its longest (a shelving ladder's posts and crossbars),
+  so that the panel is open in the middle and a gripper takes a bar of it as it would
+  take a leg."""
+  if not is_panel(part.bounds[1] - part.bounds[0]):
+    return False
+  bars = 0
+  for geom in part.element.iter("geom"):
+    if geom.get("contype") == "0" and geom.get("conaffinity") == "0":
+      continue
+    extents = _geom_extents(geom)
+    if extents is None:
+      return False
+    _, middle, longest = np.sort(extents)
+    if middle >= PANEL_RATIO * longest:
+      return False
+    bars += 1
+  return bars >= 2
+
+
 def is_disc(part, thin_axis):
   """Whether a part collides through a cylinder whose axis is its thin axis (`thin_axis`,
   0-2, of its bounds): a round panel, whose rim is round."""
@@ -79,17 +115,39 @@ def _design_to_world(spec, root, root_rest):
   return design_to_world, lambda part: lowest(part) < root_bottom - UNDER
 
 
-def upright_panels(spec, root, root_rest):
-  """[(part, rotation)] of the parts to rack: each panel's world rotation in the furniture
-  assembled onto the root lying at `root_rest` (3, 3) (turned over, for a panel under
-  the root; stood on its long edge, for a wide one lying flat there), turned about z so
-  that its thickness lies along x (the rack's row)."""
+def flat_frames(spec, root, root_rest):
+  """[(part, rotation)] of the frames (is_frame) wider than FLAT_WIDE that lie flat in the
+  furniture assembled onto the root lying at `root_rest` (3, 3), with the world rotation
+  each has there: it lies on the floor so, its mates facing the way they will face, and
+  the arm carries it in turning it only about the vertical. Stood on its long edge in the
+  rack instead, a shelving ladder taken by its top post could not be turned flat within
+  the Panda's reach (its wrist joints reached their limits over the shelves)."""
   design_to_world, under = _design_to_world(spec, root, root_rest)
   out = []
   for index, part in enumerate(spec.parts):
     extents = part.bounds[1] - part.bounds[0]
     order = np.argsort(extents)
-    if index == root or not is_panel(extents):
+    if index == root or under(part) or not is_frame(part):
+      continue
+    rot = design_to_world @ part.rot
+    if abs(rot[2, order[0]]) > 0.5 and extents[order[1]] > FLAT_WIDE:
+      out.append((index, rot))
+  return out
+
+
+def upright_panels(spec, root, root_rest):
+  """[(part, rotation)] of the parts to rack: each panel's world rotation in the furniture
+  assembled onto the root lying at `root_rest` (3, 3) (turned over, for a panel under
+  the root; stood on its long edge, for a wide one lying flat there), turned about z so
+  that its thickness lies along x (the rack's row). The flat frames (flat_frames) lie on
+  the floor instead."""
+  design_to_world, under = _design_to_world(spec, root, root_rest)
+  frames = {index for index, _ in flat_frames(spec, root, root_rest)}
+  out = []
+  for index, part in enumerate(spec.parts):
+    extents = part.bounds[1] - part.bounds[0]
+    order = np.argsort(extents)
+    if index == root or index in frames or not is_panel(extents):
       continue
     rot = design_to_world @ part.rot
     if under(part):   # goes in once the assembly is turned over
