@@ -10,6 +10,10 @@ from ikea_suite.tasks import planner
 # mate to stand in its way: a bookcase's shelves end 1.5 mm under the far side's mates
 # (scale 0.5) and leave its way in clear.
 _ABOVE_FRACTION = 0.1
+# ... and the other part must land higher by more than the connect distance: mates the
+# same height in the design (a box base's slots, a table top's) differ by millimetres
+# where the root lies tilted, and only a clear difference orders two parts.
+_HIGHER_FRACTION = 1.0
 # Steps of the search for the point of the line above a mate nearest a part's box (the
 # distance is convex along the line; each step keeps two thirds of the interval).
 _SEARCH_STEPS = 60
@@ -59,7 +63,8 @@ def must_wait(task, physics, jobs, hand):
   whose way in it would block (the assembly-by-disassembly test on the assembled poses).
   A cabinet's door, hinged to the root side lying flat, stands 15 mm (scale 1) above the
   far side's mates, in front of its edge, where the hand holding that edge comes down.
-  Since a part only waits for one landing higher, some part never waits.
+  Since a part only waits for one landing higher (by more than the connect distance),
+  some part never waits.
 
   Args:
     task: the arm task.
@@ -72,7 +77,7 @@ def must_wait(task, physics, jobs, hand):
     The set of moving parts that wait.
   """
   landing = {part: float(points[:, 2].min()) for part, points in jobs.items()}
-  tolerance = _ABOVE_FRACTION * task.thresholds.distance
+  tolerance = _HIGHER_FRACTION * task.thresholds.distance
   waiting = set()
   for part in jobs:
     for other, points in jobs.items():
