@@ -182,7 +182,8 @@ class ArmAssemblyController:
 
   def _choose_job(self):
     base, _ = self._robot.base_pose
-    return next_part.nearest_open_job(self._env.task, self._env.physics, base, self._unreachable)
+    return next_part.nearest_open_job(self._env.task, self._env.physics, base, self._unreachable,
+                                      hand=self._grasps.flat_grip_depth())
 
   # -- geometry from privileged state -----------------------------------------------
 

@@ -132,7 +132,7 @@ class TopDownGrasp:
         face = self._clear_of_connectors(
             part, face, ({0, 1, 2} - {up, int(np.argmin(bounds[1] - bounds[0]))}).pop())
       point = part_pos + part_rot @ face
-      point[2] += route.pad_below - (self._flat_grip_depth() if flat else EDGE_GRIP)
+      point[2] += route.pad_below - (self.flat_grip_depth() if flat else EDGE_GRIP)
     closing = part_geometry.across_long_axis(part_rot, bounds) * sign
     rot = arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
     if not below_work_scale.active(self._env):   # (small parts are held near one end already)
@@ -158,7 +158,7 @@ class TopDownGrasp:
     _, rot = part_geometry.assembled_pose(physics, furniture, self._env.task.root_part, part)
     return bool(abs(rot[2, int(np.argmin(bounds[1] - bounds[0]))]) > 0.5)
 
-  def _flat_grip_depth(self):
+  def flat_grip_depth(self):
     """How deep (m) the fingertips take a panel turned flat: FLAT_EDGE_GRIP, or
     FLAT_FINGER_ROOT short of the open fingers' length along the tool axis."""
     if self._finger_points is None:
