@@ -8,7 +8,9 @@ a wider part does not fit between them, and a thinner one is never squeezed (it 
 between fingers stopped at their closed limit and falls at the first swing). Panels,
 seats and discs lying flat fail the first test; thin metal legs at half scale fail the
 second in fingers that stop 13 mm apart when closed (the Rethink gripper in its default
-slot, grippers.RETHINK). The root part stays on the floor and is never picked up.
+slot, grippers.RETHINK). A hollow part (a drawer box) is taken by a wall's top edge, so
+its width is that wall's thickness. The root part stays on the floor and is never picked
+up.
 """
 
 import dataclasses
@@ -19,6 +21,7 @@ import numpy as np
 from ikea_suite import geometry
 from ikea_suite.experts import arm_motion
 from ikea_suite.experts import part_geometry
+from ikea_suite.tasks import hollow_parts
 
 
 @dataclasses.dataclass(frozen=True)
@@ -61,10 +64,18 @@ def finger_gap(physics, robot, arm=0, fraction=1.0):
 
 
 def grasp_width(env, part):
-  """The part's width (m) along the direction a top-down grasp closes on it, as it lies."""
+  """The part's width (m) along the direction a top-down grasp closes on it, as it lies: a
+  hollow part's (tasks/hollow_parts.py) is its highest wall's thickness, which the grasp
+  takes by its top edge."""
   furniture = env.task.furniture
   _, rot = part_geometry.part_pose(env.physics, furniture, part)
-  bounds = furniture.spec.parts[part].bounds
+  spec = furniture.spec.parts[part]
+  wall = hollow_parts.top_wall(spec, rot)
+  if wall is not None:
+    (_, box_rot, size), _ = wall
+    up = int(np.argmax(np.abs((rot @ box_rot)[2])))
+    return float(2.0 * min(size[k] for k in range(3) if k != up))
+  bounds = spec.bounds
   corners = geometry.box_corners(*bounds) @ rot.T
   return float(np.ptp(corners @ part_geometry.across_long_axis(rot, bounds)))
 

@@ -5,15 +5,22 @@ whether a connector pair is aligned well within the task's thresholds."""
 import numpy as np
 
 from ikea_suite.experts import part_geometry
+from ikea_suite.tasks import hollow_parts
 
 
 def holding(physics, robot, arm, furniture, part):
   """The part is near the tool and squeezed: between fingers that stay apart, or touched
   by two fingers (the robot's own test), since a thin part can hold the fingers at their
-  closed limit, opening 0."""
+  closed limit, opening 0. A hollow part (tasks/hollow_parts.py) is near the tool by its
+  nearest wall: a drawer held by its front has its largest wall's middle 14 cm away."""
   part_pos = part_geometry.grasp_point(physics, furniture, part)
   tcp_pos, _ = robot.tcp_pose(physics, arm)
-  bounds = furniture.spec.parts[part].bounds
+  spec = furniture.spec.parts[part]
+  if hollow_parts.is_hollow(spec):
+    pos, rot = part_geometry.part_pose(physics, furniture, part)
+    walls = np.array([centre for centre, _, _ in hollow_parts.collision_boxes(spec)])
+    part_pos = min(walls @ rot.T + pos, key=lambda wall: np.linalg.norm(wall - tcp_pos))
+  bounds = spec.bounds
   if np.linalg.norm(part_pos - tcp_pos) >= 0.6 * np.max(bounds[1] - bounds[0]):
     return False
   return squeezed(physics, robot, arm, furniture, part)

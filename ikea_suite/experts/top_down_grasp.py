@@ -12,6 +12,7 @@ from ikea_suite.experts import arm_motion
 from ikea_suite.experts import below_work_scale
 from ikea_suite.experts import finger_room
 from ikea_suite.experts import part_geometry
+from ikea_suite.tasks import hollow_parts
 from ikea_suite.tasks import panel_placement
 
 # A panel standing TALL or taller (in the rack, props/panel_rack.py) is taken by its
@@ -40,6 +41,10 @@ FLAT_FINGER_ROOT = 0.02
 # wide) stood on that shelf 2.5 cm short of the mate in every insertion.
 FLAT_EDGE_CLEAR = 0.03
 FLAT_CARRY_SPEED = 0.5
+# A hollow part (a drawer box, tasks/hollow_parts.py) is taken by the top edge of its
+# highest wall, EDGE_GRIP deep at most and with the fingertips WALL_CLEAR (m) above the
+# other walls' tops.
+WALL_CLEAR = 0.003
 
 # The open fingers go down to a part slowly: at full speed the hand swings sideways by
 # up to 2.6 cm (Sawyer, 7 cm descent in 3 steps) and a finger lands on the part.
@@ -116,14 +121,10 @@ class TopDownGrasp:
         point = part_pos + part_rot @ shift
       tip_clearance = below_work_scale.TIP_CLEARANCE
     point[2] = max(corners[:, 2].min(), self._surface) + route.pad_below + tip_clearance
-    edge = self.by_top_edge(part)
-    if not edge and self._is_frame(part):   # along its longest bar, clear of the mates under it
-      long_axis = int(np.argmax(bounds[1] - bounds[0]))
-      base = part_rot.T @ (self._robot.base_pose[0] - part_pos)
-      face = self._clear_of_connectors(part, part_rot.T @ (self._nearest_bar(part) - part_pos),
-                                       long_axis, toward=base[long_axis])
-      point = np.array([*(part_pos + part_rot @ face)[:2], point[2]])
-    if edge:   # at the middle of its top edge, which a lean moves aside
+    wall = hollow_parts.top_wall(furniture.spec.parts[part], part_rot)
+    if wall is not None:   # a hollow part: by the middle of its highest wall's top edge
+      point, closing = self._wall_grip(part_pos, part_rot, wall)
+    elif self.by_top_edge(part):   # at the middle of its top edge, which a lean moves aside
       up = int(np.argmax(np.abs(part_rot[2])))
       face = np.mean(bounds, axis=0)
       face[up] = bounds[int(part_rot[2, up] > 0)][up]
@@ -133,18 +134,50 @@ class TopDownGrasp:
             part, face, ({0, 1, 2} - {up, int(np.argmin(bounds[1] - bounds[0]))}).pop())
       point = part_pos + part_rot @ face
       point[2] += route.pad_below - (self.flat_grip_depth() if flat else EDGE_GRIP)
-    closing = part_geometry.across_long_axis(part_rot, bounds) * sign
+    elif self._is_frame(part):   # along its longest bar, clear of the mates under it
+      long_axis = int(np.argmax(bounds[1] - bounds[0]))
+      base = part_rot.T @ (self._robot.base_pose[0] - part_pos)
+      face = self._clear_of_connectors(part, part_rot.T @ (self._nearest_bar(part) - part_pos),
+                                       long_axis, toward=base[long_axis])
+      point = np.array([*(part_pos + part_rot @ face)[:2], point[2]])
+    if wall is None:
+      closing = part_geometry.across_long_axis(part_rot, bounds)
+    closing = closing * sign
     rot = arm_motion.tool_rotation(np.array([0.0, 0.0, -1.0]), closing, self.closing_local())
     if not below_work_scale.active(self._env):   # (small parts are held near one end already)
       point = point + part_rot @ self._room_shift(part, sign, point, rot)
     return point, rot
 
+  def _wall_grip(self, part_pos, part_rot, wall):
+    """(the grasp point, the horizontal closing direction) that take a hollow part by the
+    middle of the top edge of its highest wall (`wall`: hollow_parts.top_wall), across
+    the wall's thickness, EDGE_GRIP deep or less: the fingers stay WALL_CLEAR above the
+    other walls' tops, between which and the wall the inner finger has no room (a
+    drawer's front stands 13 mm above its box at scale 0.5, 6 mm before its sides)."""
+    (centre, box_rot, size), above_others = wall
+    axes = part_rot @ box_rot
+    up = int(np.argmax(np.abs(axes[2])))
+    top = part_pos + part_rot @ centre + axes[:, up] * size[up] * np.sign(axes[2, up])
+    depth = min(EDGE_GRIP, above_others - WALL_CLEAR)
+    point = top + [0.0, 0.0, self._route.pad_below - depth]
+    thin = min((k for k in range(3) if k != up), key=lambda k: size[k])
+    closing = axes[:, thin].copy()
+    closing[2] = 0.0
+    return point, closing / np.linalg.norm(closing)
+
+  def by_wall(self, part):
+    """Whether `part` is hollow (tasks/hollow_parts.py), taken by a wall's top edge."""
+    return hollow_parts.is_hollow(self._env.task.furniture.spec.parts[part])
+
   def by_top_edge(self, part):
     """Whether `part`, as it stands now, is taken by its top edge: a panel
-    (tasks/panel_placement.is_panel) standing TALL or taller, as in the rack. It will
-    hang from the fingers like a pendulum. Legs, rails and blocks are taken as low as
-    the fingertips allow however they lie."""
+    (tasks/panel_placement.is_panel) standing TALL or taller, as in the rack, or a hollow
+    part by its highest wall's (tasks/hollow_parts.py). It will hang from the fingers
+    like a pendulum. Legs, rails and blocks are taken as low as the fingertips allow
+    however they lie."""
     physics, furniture = self._env.physics, self._env.task.furniture
+    if self.by_wall(part):
+      return True
     _, part_rot = part_geometry.part_pose(physics, furniture, part)
     bounds = furniture.spec.parts[part].bounds
     height = np.ptp((geometry.box_corners(*bounds) @ part_rot.T)[:, 2])
@@ -154,6 +187,8 @@ class TopDownGrasp:
     """Whether `part`, a panel, lies flat (its thin axis vertical) in its assembled place on
     the root as the root lies now, so that the arm turns it flat from standing."""
     physics, furniture = self._env.physics, self._env.task.furniture
+    if self.by_wall(part):   # lies as it goes in
+      return False
     bounds = furniture.spec.parts[part].bounds
     _, rot = part_geometry.assembled_pose(physics, furniture, self._env.task.root_part, part)
     return bool(abs(rot[2, int(np.argmin(bounds[1] - bounds[0]))]) > 0.5)

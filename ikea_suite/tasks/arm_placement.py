@@ -4,7 +4,11 @@ The root part (the one everything is built onto) lies in front of the
 robot, turned over when its mates attach from below (a table top is
 assembled upside down, as people do), so its open connectors face up; a
 carcass that would stand tall panels in the rack is built on its front or
-back instead, its side standing on its long edge (root_rest). The
+back instead, its side standing on its long edge (root_rest). A hollow part
+(a drawer box, tasks/hollow_parts.py) and a flat frame (a shelving ladder,
+panel_placement.flat_frames) lie as they stand in the furniture built on the root
+as the root lies, so that an arm takes the one by a wall's top edge and the other
+by a bar, and carries each to its mate unturned. The
 other parts are scattered without overlap in a sector around the base from
 `min_distance` out to `reach`. Furniture too large for that band spills
 outwards instead of failing, so every furniture loads with every robot.
@@ -27,6 +31,7 @@ from dm_control import composer
 from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.arenas import support as support_lib
+from ikea_suite.tasks import hollow_parts
 from ikea_suite.tasks import panel_placement
 from ikea_suite.tasks import placement
 from ikea_suite.tasks import planner
@@ -208,12 +213,18 @@ class ReachableParts(placement.PartInitializer):
           for side, parts in panel_placement.split_by_side(
               spec, self._root, self._root_rest, self._racked.parts)]
     # Where the parts start: lying parts as ScatteredParts lays them, the root as it lies
-    # here, and a flat frame (a shelving ladder) as it lies in the furniture on the root.
+    # here.
     self._rests = dict(self._groups.rests)
     self._rests.update(resting.rests_on_support(spec, {self._root: self._root_rest}))
-    frames = dict(panel_placement.flat_frames(spec, self._root, self._root_rest))
-    if frames:
-      self._rests.update(resting.rests_on_support(spec, frames))
+    # A loose part that lies as it stands in the furniture built on the root as it lies
+    # here: a flat frame (a shelving ladder, panel_placement.flat_frames) and a hollow part
+    # (a drawer box, tasks/hollow_parts.py).
+    self._as_assembled = dict(panel_placement.flat_frames(spec, self._root, self._root_rest))
+    self._as_assembled.update({i: hollow_parts.assembled_rest(spec, self._root, self._root_rest, i)
+                               for i, part in enumerate(spec.parts)
+                               if i != self._root and hollow_parts.is_hollow(part)})
+    if self._as_assembled:
+      self._rests.update(resting.rests_on_support(spec, self._as_assembled))
 
   def _across_if_far(self, table, rest, reach):
     """The root's resting rotation `rest`, turned a quarter turn about the vertical when,
@@ -286,6 +297,8 @@ class ReachableParts(placement.PartInitializer):
 
   def __call__(self, physics, random_state):
     items = self._groups.draw_items(random_state)   # single parts lie flat; joined groups upright
+    items = [[(item[0][0], self._rests[item[0][0]].rotation, item[0][2])]
+             if len(item) == 1 and item[0][0] in self._as_assembled else item for item in items]
     root_item = next(item for item in items if any(i == self._root for i, _, _ in item))
     if len(root_item) == 1:   # the root alone: turned over when its mates attach from below
       root_item = [(self._root, self._rests[self._root].rotation, np.zeros(3))]
@@ -326,8 +339,6 @@ class ReachableParts(placement.PartInitializer):
     for item in items:
       if any(i == self._root for i, _, _ in item) or (len(item) == 1 and item[0][0] in racked):
         continue
-      if len(item) == 1:   # a part alone lies as its rest has it (a flat frame: as assembled)
-        item = [(item[0][0], self._rests[item[0][0]].rotation, np.zeros(3))]
       yaw_rot = geometry.rot_z(random_state.uniform(-self._yaw_range, self._yaw_range))
       corners, _, radius = self._item_footprint(item, yaw_rot)
       xy = self._sample_xy(random_state, radius, placed, self._item_top(corners), side=side)

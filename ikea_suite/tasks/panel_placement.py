@@ -1,7 +1,8 @@
 """Which loose parts an arm's task stands in a panel rack (props/panel_rack.py), and how.
 
 A part is racked when it is a thin panel (its thickness under PANEL_RATIO of its
-next-smallest extent) that stands upright in the assembled furniture (its
+next-smallest extent, or a board: a plinth, BOARD_RATIO of its width thick and
+over BOARD_LENGTH widths long) that stands upright in the assembled furniture (its
 thin axis horizontal once the root lies as placed) and is at least
 MIN_HEIGHT tall standing: a box wall, a bench's stretcher, a chair back, a
 cabinet side. It stands in its slot as it will stand in the furniture, up to a
@@ -32,6 +33,13 @@ from ikea_suite.props import panel_rack
 from ikea_suite.tasks import resting
 
 PANEL_RATIO = 0.26   # a bench's 20 x 80 mm stretcher (a quarter) is a panel
+# A plinth lying flat (8 x 18 mm at scale 0.5) rolled up between the Panda's closing
+# fingertips and slipped out; stood in the rack as in the furniture it is taken by its
+# top end like a box wall. A board is BOARD_RATIO of its width thick (the catalog's
+# plinths: 0.32-0.43) and over BOARD_LENGTH widths long; no leg, rail or block of the
+# catalog is. A bed's side rail (40 x 150 mm: 0.27) is neither board nor panel: it lies
+# flat, and its bed is built at the smaller scale its width fits (experts/work_scale.py).
+BOARD_RATIO, BOARD_LENGTH = (0.3, 0.5), 8.0
 # Standing, a racked panel's top must clear the fins by the fingers' grip on its top edge
 # (20 mm, experts/top_down_grasp.EDGE_GRIP) with room to spare (panel_rack.FINGER_ROOM); the
 # expert takes a panel this tall or taller by its top edge.
@@ -52,9 +60,18 @@ FLAT_WIDE = 0.06
 
 def is_panel(extents):
   """Whether a box of these (3,) extents is a thin panel: thickness under PANEL_RATIO of the
-  next-smallest extent (a box wall, a seat; not a leg, a rail or a block)."""
+  next-smallest extent (a box wall, a seat; not a leg, a rail or a block), or a board
+  (is_board: a carcass's plinth, 16 x 37 x 412 mm)."""
   low, middle, _ = np.sort(extents)
-  return bool(low < PANEL_RATIO * middle)
+  return bool(low < PANEL_RATIO * middle or is_board(extents))
+
+
+def is_board(extents):
+  """Whether a box of these (3,) extents is a board: BOARD_RATIO of its width thick and
+  over BOARD_LENGTH widths long (a plinth)."""
+  low, middle, high = np.sort(extents)
+  return bool(BOARD_RATIO[0] * middle <= low < BOARD_RATIO[1] * middle
+              and high > BOARD_LENGTH * middle)
 
 
 def _geom_extents(geom):
