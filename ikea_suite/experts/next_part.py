@@ -7,94 +7,13 @@ from ikea_suite.experts import turn_over
 from ikea_suite.tasks import panel_placement
 from ikea_suite.tasks import planner
 
-# A part must reach more than this fraction of the connect distance above another's open
-# mate to stand in its way: a bookcase's shelves end 1.5 mm under the far side's mates
-# (scale 0.5) and leave its way in clear.
-_ABOVE_FRACTION = 0.1
-# ... and the other part must land higher by more than the connect distance: mates the
-# same height in the design (a box base's slots, a table top's) differ by millimetres
-# where the root lies tilted, and only a clear difference orders two parts.
-_HIGHER_FRACTION = 1.0
-# Steps of the search for the point of the line above a mate nearest a part's box (the
-# distance is convex along the line; each step keeps two thirds of the interval).
-_SEARCH_STEPS = 60
-
-
-def stands_over(task, physics, part, mate_pos, hand):
-  """Whether `part`, in its assembled place (laid out from the root as it lies now),
-  reaches above the world point `mate_pos` (a connector another part will land on)
-  within `hand` (m) of the vertical line through it: it would stand in the way of that
-  part coming down onto it, and of the hand that brings it, which reaches `hand` in from
-  the edge it holds.
-
-  Args:
-    task: the arm task (its furniture, root part and thresholds).
-    physics: the simulation, for the root's present pose.
-    part: index of the part that may stand in the way.
-    mate_pos: world position (3,) of the open connector.
-    hand: how far (m) beside the line the hand reaches.
-
-  Returns:
-    True when some point of the line above the mate, higher than a tenth of the connect
-    distance over it, lies within `hand` of the part's assembled collision box.
-  """
-  furniture = task.furniture
-  pos, rot = part_geometry.assembled_pose(physics, furniture, task.root_part, part)
-  low, high = furniture.spec.parts[part].bounds
-  top = part_geometry.part_corners(furniture, part, pos, rot)[:, 2].max()
-  bottom = mate_pos[2] + _ABOVE_FRACTION * task.thresholds.distance
-  if top <= bottom:
-    return False
-  def gap(height):
-    local = (np.array([mate_pos[0], mate_pos[1], height]) - pos) @ rot
-    return float(np.linalg.norm(local - np.clip(local, low, high)))
-
-  for _ in range(_SEARCH_STEPS):
-    third = (top - bottom) / 3.0
-    if gap(bottom + third) <= gap(top - third):
-      top -= third
-    else:
-      bottom += third
-  return gap(0.5 * (bottom + top)) <= hand
-
-
-def must_wait(task, physics, jobs, hand):
-  """The parts among `jobs` that must wait for another: a part that would stand over an
-  open mate (stands_over) of another part landing higher waits until that part is in,
-  whose way in it would block (the assembly-by-disassembly test on the assembled poses).
-  A cabinet's door, hinged to the root side lying flat, stands 15 mm (scale 1) above the
-  far side's mates, in front of its edge, where the hand holding that edge comes down.
-  Since a part only waits for one landing higher (by more than the connect distance),
-  some part never waits.
-
-  Args:
-    task: the arm task.
-    physics: the simulation.
-    jobs: {moving part: world positions (n, 3) of the assembly's connectors it can mate
-      with now}.
-    hand: how far (m) the hand reaches in from the edge of a part it holds.
-
-  Returns:
-    The set of moving parts that wait.
-  """
-  landing = {part: float(points[:, 2].min()) for part, points in jobs.items()}
-  tolerance = _HIGHER_FRACTION * task.thresholds.distance
-  waiting = set()
-  for part in jobs:
-    for other, points in jobs.items():
-      if other != part and landing[other] > landing[part] + tolerance and any(
-          stands_over(task, physics, part, point, hand) for point in points):
-        waiting.add(part)
-        break
-  return waiting
-
 
 # A lid covers a part whose footprint reaches up to this far (m) beyond its own: a
 # drawer's front stands 10 mm proud of a nightstand's sides at scale 0.5.
 LID_MARGIN = 0.02
 
 
-def nearest_open_job(task, physics, base_pos, skip=(), hand=0.0):
+def nearest_open_job(task, physics, base_pos, skip=()):
   """(connector pair, moving part) of the open pair joining the root's group whose fixed
   connector, and then whose loose part, is nearest the arm's base; None when no part is
   left (parts in `skip` are passed over: the arm could not reach or hold them). Mates on
@@ -107,10 +26,8 @@ def nearest_open_job(task, physics, base_pos, skip=(), hand=0.0):
   that none is carried past another still in the rack (a trestle 0.25 m wide knocked
   the next one out). A mate whose part would sit in the surface waits for the assembly
   to be turned over (turn_over.under_support: a chair's back, under its upside-down
-  seat). A part that would stand in the way of another's coming in waits for it
-  (must_wait, with the hand reaching `hand` m in from a held edge). None, too, while the
-  part chosen would cover (`covers`) a part in `skip`: the caller then tries the parts it
-  passed over again."""
+  seat). None, too, while the part chosen would cover (`covers`) a part in `skip`: the
+  caller then tries the parts it passed over again."""
   table, state = task.furniture.connectors, task.state
   groups = state.group_labels()
   root_group = groups[task.root_part]
@@ -122,7 +39,7 @@ def nearest_open_job(task, physics, base_pos, skip=(), hand=0.0):
     mine = [p for p in loose if p in rack_parts]
     for p in mine:
       racks[p] = positions[mine, :2].mean(axis=0)
-  candidates = []   # (key, pair, moving part, fixed connector)
+  best = None
   for pair in np.flatnonzero(planner.open_pairs(table, state)):
     a, b = table.pair_a[pair], table.pair_b[pair]
     for fixed, moving in ((a, b), (b, a)):
@@ -143,15 +60,8 @@ def nearest_open_job(task, physics, base_pos, skip=(), hand=0.0):
       else:
         key = (table.part[fixed] != task.root_part, False, False, 0.0,
                np.linalg.norm(cpos[fixed][:2] - base_pos[:2]) + np.linalg.norm(here - base_pos[:2]))
-      candidates.append((key, int(pair), int(table.part[moving]), int(fixed)))
-  jobs = {}
-  for _, _, moving, fixed in candidates:
-    jobs.setdefault(moving, []).append(cpos[fixed])
-  waiting = must_wait(task, physics, {p: np.array(v) for p, v in jobs.items()}, hand)
-  best = None
-  for key, pair, moving, _ in candidates:
-    if moving not in waiting and (best is None or key < best[0]):
-      best = (key, pair, moving)
+      if best is None or key < best[0]:
+        best = (key, int(pair), int(table.part[moving]))
   if best is not None and any(covers(task, physics, best[2], other) for other in skip
                               if groups[other] != root_group):
     return None   # passed-over parts first: once covered, they could not go in

@@ -182,8 +182,7 @@ class ArmAssemblyController:
 
   def _choose_job(self):
     base, _ = self._robot.base_pose
-    return next_part.nearest_open_job(self._env.task, self._env.physics, base, self._unreachable,
-                                      hand=self._grasps.flat_grip_depth())
+    return next_part.nearest_open_job(self._env.task, self._env.physics, base, self._unreachable)
 
   # -- geometry from privileged state -----------------------------------------------
 

@@ -133,7 +133,7 @@ class TopDownGrasp:
         face = self._clear_of_connectors(
             part, face, ({0, 1, 2} - {up, int(np.argmin(bounds[1] - bounds[0]))}).pop())
       point = part_pos + part_rot @ face
-      point[2] += route.pad_below - (self.flat_grip_depth() if flat else EDGE_GRIP)
+      point[2] += route.pad_below - (self._flat_grip_depth() if flat else EDGE_GRIP)
     elif self._is_frame(part):   # along its longest bar, clear of the mates under it
       long_axis = int(np.argmax(bounds[1] - bounds[0]))
       base = part_rot.T @ (self._robot.base_pose[0] - part_pos)
@@ -193,7 +193,7 @@ class TopDownGrasp:
     _, rot = part_geometry.assembled_pose(physics, furniture, self._env.task.root_part, part)
     return bool(abs(rot[2, int(np.argmin(bounds[1] - bounds[0]))]) > 0.5)
 
-  def flat_grip_depth(self):
+  def _flat_grip_depth(self):
     """How deep (m) the fingertips take a panel turned flat: FLAT_EDGE_GRIP, or
     FLAT_FINGER_ROOT short of the open fingers' length along the tool axis."""
     if self._finger_points is None:
