@@ -12,7 +12,13 @@ below --min-success or any buffer overflowed. The MJX implementation is
 backend.default_impl() (Warp on a GPU) unless --impl; --host-physics steps the physics
 with MuJoCo's C library instead (the CPU tests' path, tests/test_batch_arm.py).
 
+The starts are the CPU task's own, recorded from its environment at --layout-seed
+(default: --seed) when the batched model is built (arm_env: `layouts`, `layout_seed`);
+--seed also draws which of them each world starts from. A seed the expert was never run
+on is therefore a set of starts it never saw.
+
   python scripts/batch_arm_expert.py [--robot panda] [--worlds 1024] [--steps 600]
+      [--seed 0] [--layout-seed SEED]
       [--furniture table_four_leg_lack stool_square_pine bench_plank_pine]
 """
 
@@ -37,13 +43,18 @@ def main(argv=None):
   parser.add_argument("--worlds", type=int, default=1024)
   parser.add_argument("--steps", type=int, default=600)
   parser.add_argument("--seed", type=int, default=0)
+  parser.add_argument("--layout-seed", type=int, default=None,
+                      help="the CPU environment's seed the starts are recorded from "
+                           "(default: --seed)")
   parser.add_argument("--min-success", type=float, default=0.9)
   parser.add_argument("--furniture", nargs="*", default=list(FURNITURE))
   parser.add_argument("--impl", default=None, choices=backend.IMPLS)
   parser.add_argument("--host-physics", action="store_true")
   args = parser.parse_args(argv)
   impl = backend.check_impl(args.impl)
-  print(f"robot {args.robot}, {args.worlds} worlds, MJX impl {impl}"
+  layout_seed = args.seed if args.layout_seed is None else args.layout_seed
+  print(f"robot {args.robot}, {args.worlds} worlds, seed {args.seed}, starts recorded at "
+        f"seed {layout_seed}, MJX impl {impl}"
         f"{' (physics: MuJoCo C on the host)' if args.host_physics else ''}")
   print(f"{'model':32s} {'parts':>5s} {'completed':>11s} {'rate':>6s} {'steps':>5s} "
         f"{'wall s':>7s} {'overflow':>8s}", flush=True)
@@ -52,7 +63,7 @@ def main(argv=None):
     start = time.time()
     parts = len(catalog.spec(name).parts)
     env = arm_env.load(name, args.robot, impl=impl, num_worlds=args.worlds,
-                       preassembled=parts - 1)
+                       preassembled=parts - 1, layout_seed=layout_seed)
     success, steps, phase = arm_scripted.rollout(env, args.worlds, args.steps, seed=args.seed,
                                                  host_physics=args.host_physics)
     totals = env.overflow_watch.flush()

@@ -23,6 +23,7 @@ from ikea_suite import geometry   # noqa: E402
 from ikea_suite import observations   # noqa: E402
 from ikea_suite.batch import arm_control   # noqa: E402
 from ikea_suite.batch import arm_env   # noqa: E402
+from ikea_suite.batch import arm_model   # noqa: E402
 from ikea_suite.batch import arm_scripted   # noqa: E402
 from ikea_suite.props import catalog   # noqa: E402
 
@@ -134,7 +135,6 @@ def test_model_keeps_what_default_classes_give():
   the gripper colliding on the robot. (The Jaco builds and its jax forward kinematics
   matches MuJoCo's, but it is not in arm_env.ROBOTS: see docs/batch.md.)"""
   import mujoco
-  from ikea_suite.batch import arm_model
   am = arm_model.build(FURNITURE, "jaco", layouts=1, light=True, preassembled=4)
   model = am.model
   names = [model.geom(g).name for g in range(model.ngeom)]
@@ -169,6 +169,18 @@ def test_bad_options():
     arm_env.load(FURNITURE, "panda", control_mode="impedance")
   with pytest.raises(errors.UnknownNameError):
     arm_env.load(FURNITURE, "panda", cameras=("front",))
+  with pytest.raises(errors.OptionValueError, match="layout_seed"):
+    arm_env.load(FURNITURE, "panda", layout_seed=-1)
+
+
+def test_layout_seed_records_other_starts():
+  """The resets' starts come from the CPU environment at `layout_seed`: another seed,
+  other starts (so a fresh seed in scripts/batch_arm_expert.py is a fresh set of starts);
+  the same seed, the same starts."""
+  starts = [arm_model.build(FURNITURE, "panda", layouts=2, light=True, preassembled=4,
+                            layout_seed=seed).layouts.part_qpos for seed in (0, 0, 7)]
+  np.testing.assert_array_equal(starts[0], starts[1])
+  assert np.abs(starts[0] - starts[2]).max() > 0.01
 
 
 def test_mjx_step_traces(env):

@@ -19,13 +19,15 @@ task-space target added (`targets`).
 Differences from the CPU environment, and why:
 - Episode starts: a reset draws one of `layouts` starts that the CPU task's own
   initializer made (tasks/arm_placement.py: parts within reach, `preassembled`
-  pairs joined), recorded when the environment is built, instead of a fresh
+  pairs joined), recorded from the CPU environment at `layout_seed` when the
+  environment is built, instead of a fresh
   layout per episode: the placement is rejection sampling over the arm's reach
   zone in numpy, not array code.
 - The model's differences (arm_model.py): parts never collide with each other;
   welds at exact mated poses (connect snaps exactly, as the Cursor's batch does).
 - The connect snap check is the Cursor batch's analytic floor check (connect.py).
-- The IK: a closed-form damped least-squares step where the CPU solves mink's QP
+- The IK: the CPU IK's own QP (mink's frame task, posture, damping and limits),
+  solved by a batched projected Newton method where the CPU calls DAQP
   (arm_control.py).
 - Control modes: task_space and joint_position (not task_space_pose, joint_torque,
   impedance); no dense reward, cameras or domain randomization.
@@ -64,7 +66,7 @@ TASK_OPTIONS = ("time_limit", "control_timestep", "distance_threshold", "up_thre
                 "forward_threshold", "connection_reward", "completion_bonus", "spread",
                 "yaw_range", "preassembled", "scale")
 ROBOT_OPTIONS = ("control_mode", "max_translation", "max_rotation", "base_pos", "base_yaw")
-OPTIONS = TASK_OPTIONS + ROBOT_OPTIONS + ("layouts",)
+OPTIONS = TASK_OPTIONS + ROBOT_OPTIONS + ("layouts", "layout_seed")
 
 
 class State(typing.NamedTuple):
@@ -109,6 +111,9 @@ def check_options(robot, options):
   layouts = options.get("layouts", arm_model.DEFAULT_LAYOUTS)
   if not isinstance(layouts, (int, np.integer)) or layouts < 1:
     raise errors.OptionValueError(f"layouts must be an integer >= 1, got {layouts!r}")
+  seed = options.get("layout_seed", 0)
+  if not isinstance(seed, (int, np.integer)) or seed < 0:
+    raise errors.OptionValueError(f"layout_seed must be an integer >= 0, got {seed!r}")
 
 
 class BatchArmAssembly(worlds.BatchWorlds):
@@ -120,16 +125,18 @@ class BatchArmAssembly(worlds.BatchWorlds):
     impl: "warp", "jax" or None (see BatchAssembly).
     num_worlds: worlds stepped together (sizes Warp's buffers; unused by jax).
     layouts: CPU episode starts recorded for the resets (arm_model.Layouts).
+    layout_seed: the CPU environment's seed whose resets are recorded (default 0).
     **options: ikea_suite.load's options among OPTIONS.
   """
 
   def __init__(self, furniture, robot="panda", impl=None, num_worlds=None, buffer_sizes=None,
-               layouts=arm_model.DEFAULT_LAYOUTS, **options):
-    check_options(robot, dict(options, layouts=layouts))
+               layouts=arm_model.DEFAULT_LAYOUTS, layout_seed=0, **options):
+    check_options(robot, dict(options, layouts=layouts, layout_seed=layout_seed))
     super().__init__(impl, num_worlds, buffer_sizes)
     self._robot = robot
     self._arm = am = arm_model.build(furniture, robot, layouts=layouts,
-                                     light=self._impl == "jax", **options)
+                                     light=self._impl == "jax", layout_seed=layout_seed,
+                                     **options)
     config = am.task_config
     self._settings = Settings(
         thresholds=alignment.Thresholds.of(config), control_timestep=config.control_timestep,
@@ -406,7 +413,7 @@ def load(furniture="table_four_leg_lack", robot="panda", impl=None, num_worlds=N
     impl: "warp", "jax" or None (warp on a GPU with warp-lang, else jax).
     num_worlds: worlds to be stepped together (Warp buffer sizing).
     buffer_sizes: (nconmax, njmax) per world for Warp instead of the measured sizing.
-    **options: OPTIONS (ikea_suite.load's, and `layouts`).
+    **options: OPTIONS (ikea_suite.load's, `layouts` and `layout_seed`).
 
   Returns:
     A BatchArmAssembly.

@@ -266,13 +266,16 @@ def _world_box(box, base_pos, base_rot):
   return np.stack([world.min(0), world.max(0)])
 
 
-def build(furniture, robot="panda", layouts=DEFAULT_LAYOUTS, light=False, **options):
+def build(furniture, robot="panda", layouts=DEFAULT_LAYOUTS, light=False, layout_seed=0,
+          **options):
   """Compiles the batched arm task's model of `furniture`.
 
   Args:
     furniture: a catalog name or a path to a furniture model file.
     robot: a single-arm robot name.
     layouts: CPU resets recorded as the batched resets' starts.
+    layout_seed: the seed of the CPU environment whose resets are recorded: other seeds,
+      other starts.
     light: the light collision model (for MJX's JAX implementation; see above).
     **options: ikea_suite.load's options for the CPU environment the model is taken from.
 
@@ -280,7 +283,7 @@ def build(furniture, robot="panda", layouts=DEFAULT_LAYOUTS, light=False, **opti
     An ArmBatchModel.
   """
   import ikea_suite   # the suite's load() sits above batch in the package
-  env = ikea_suite.load(furniture, robot, seed=0, **options)
+  env = ikea_suite.load(furniture, robot, seed=layout_seed, **options)
   records = _record_layouts(env, layouts)
   env.reset()
   task, physics = env.task, env.physics
