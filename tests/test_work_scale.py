@@ -23,7 +23,7 @@ def test_furniture_measured_smaller_for_reach_or_grip_gets_that_scale():
   # The tall post shelving's far mates lie beyond the Panda's reach at 0.5; the low one
   # it assembles there, and the Sawyer only at 0.35.
   assert work_scale.work_scale("panda", "shelving_posts_white_low") == 0.5
-  assert work_scale.work_scale("panda", "shelving_posts_steel_tall") == 0.4
+  assert work_scale.work_scale("panda", "shelving_posts_black_six") == 0.4
   assert work_scale.work_scale("sawyer", "shelving_posts_white_low") == 0.35
   for robot, scales in work_scale.REACH_SCALES.items():
     for furniture, scale in scales.items():
