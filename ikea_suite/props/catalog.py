@@ -44,8 +44,7 @@ class Entry:
 
 
 def _has_mesh_collision(spec):
-  return any(g.get("type") == "mesh" and g.get("contype") != "0"
-             for p in spec.parts for g in p.element.iter("geom"))
+  return any(g.get("type") == "mesh" for p in spec.parts for g in p.collision_geoms())
 
 
 @dataclasses.dataclass(frozen=True)

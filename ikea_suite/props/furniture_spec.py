@@ -50,6 +50,17 @@ class PartSpec:
     """(8, 3) corners of its collision bounds in the assembled (furniture) frame."""
     return geometry.box_corners(*self.bounds) @ self.rot.T + self.pos
 
+  def collision_geoms(self):
+    """Its <geom> elements that collide (collision_geoms)."""
+    return collision_geoms(self.element)
+
+
+def collision_geoms(element):
+  """The <geom> elements under `element` that collide: all but the visual ones (contype
+  and conaffinity 0)."""
+  return [geom for geom in element.iter("geom")
+          if not (geom.get("contype") == "0" and geom.get("conaffinity") == "0")]
+
 
 # Compared and hashed by identity: sequence.plan keeps its results per spec object.
 @dataclasses.dataclass(frozen=True, eq=False)

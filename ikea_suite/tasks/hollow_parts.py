@@ -14,6 +14,7 @@ import functools
 import numpy as np
 
 from ikea_suite import geometry
+from ikea_suite.props import furniture_spec
 
 # A part whose collision boxes fill less than this of its bounding box is hollow (a
 # drawer box, its 6-16 mm walls: 0.16).
@@ -35,9 +36,7 @@ def collision_boxes(part):
 @functools.lru_cache(maxsize=256)
 def _boxes(element):
   boxes = []
-  for geom in element.iter("geom"):
-    if geom.get("contype") == "0" and geom.get("conaffinity") == "0":
-      continue
+  for geom in furniture_spec.collision_geoms(element):
     if geom.get("type") != "box":
       return None
     pos = np.array(geom.get("pos", "0 0 0").split(), dtype=float)

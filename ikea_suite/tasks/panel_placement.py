@@ -94,9 +94,7 @@ def is_frame(part):
   if not is_panel(part.bounds[1] - part.bounds[0]):
     return False
   bars = 0
-  for geom in part.element.iter("geom"):
-    if geom.get("contype") == "0" and geom.get("conaffinity") == "0":
-      continue
+  for geom in part.collision_geoms():
     extents = _geom_extents(geom)
     if extents is None:
       return False
@@ -110,8 +108,8 @@ def is_frame(part):
 def is_disc(part, thin_axis):
   """Whether a part collides through a cylinder whose axis is its thin axis (`thin_axis`,
   0-2, of its bounds): a round panel, whose rim is round."""
-  for geom in part.element.iter("geom"):
-    if geom.get("type") != "cylinder" or geom.get("contype") == "0":
+  for geom in part.collision_geoms():
+    if geom.get("type") != "cylinder":
       continue
     quat = [float(v) for v in geom.get("quat", "1 0 0 0").split()]
     if abs(geometry.quat_to_mat(quat)[thin_axis, 2]) > 0.99:
