@@ -216,6 +216,17 @@ class Unwinder:
     self._servo.reset()
     self._counter = 0
 
+  def follow(self, robot, arm, path):
+    """Follows a planned joint path instead (IK joint vectors, every arm, the first the
+    present joints: joint_planner.JointPath.q); then call until `done`."""
+    base_pos, base_rot = robot.base_pose
+    self.waypoints = []
+    for q in path[1:]:
+      pos, rot = robot.ik.tcp_poses(q)[arm]
+      self.waypoints.append((base_rot @ pos + base_pos, base_rot @ rot))
+    self._servo.reset()
+    self._counter = 0
+
   @property
   def done(self):
     return not self.waypoints
