@@ -598,7 +598,9 @@ class ArmAssemblyController:
       if path is not None:
         self._failed_plans.discard((pair, twist))
         self._plan, self._carrying = (pair, twist), False
-        self._unwinder.follow(self._robot, self._arm, path.q)
+        self._unwinder.follow(self._robot, self._arm, path.q, max_turn=arm_motion.CARRY_TURN,
+                              max_speed=top_down_grasp.FLAT_CARRY_SPEED
+                              if self._turning_flat else 1.0)
         self.phase, self._counter, self._stalled, self._inserting = (
             Phase.PLANNED_CARRY, 0, 0, 0)
         return True
