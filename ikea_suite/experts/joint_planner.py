@@ -92,9 +92,8 @@ class ArmScene:
       tcp_pos, tcp_rot = data.site_xpos[self._site], data.site_xmat[self._site].reshape(3, 3)
       part_rot = data.xmat[free].reshape(3, 3)
       self._grip = (tcp_rot.T @ (data.xpos[free] - tcp_pos), tcp_rot.T @ part_rot)
-    self.checks = 0
-    self._allowed = {}
-    self._allowed = {pair: depth for pair, depth in self.contacts(self.q0[self.index]).items()}
+    self.checks = 0   # validity checks so far
+    self._allowed = self.contacts(here)   # what touches at the start may stay, no deeper
 
   def full(self, arm_q):
     """The IK joint vector with this arm's joints at `arm_q` and the rest as now."""
