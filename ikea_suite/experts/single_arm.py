@@ -565,8 +565,9 @@ class ArmAssemblyController:
 
   def _carry_stalled(self, moving, pair, twist):
     """A carry that stopped short of its mating pose with a joint at its limit: another
-    mate or twist first; stalled again, set the part down and take it with its other
-    grasp (the Panda's last joint was pinned at its limit after every replan). Other
+    mate or twist first; stalled again, a planned joint-space path there (_plan_carry),
+    or else set the part down and take it with its other grasp (the Panda's last joint
+    was pinned at its limit after every replan). Other
     stalls keep the 2 * stall_steps budget (a slow approach may still get there)."""
     self._failed_plans.add((pair, twist))
     self._plan, self._stalled, self._inserting = None, 0, 0
