@@ -7,7 +7,8 @@ import ikea_suite
 from ikea_suite.experts import arm_motion
 from ikea_suite.experts import joint_planner
 
-pytest.importorskip("ompl")
+# The planner needs OMPL (the `planning` extra, in `test` too).
+needs_ompl = pytest.mark.skipif(not joint_planner.AVAILABLE, reason="OMPL is not installed")
 
 
 def _scene_with_a_wall():
@@ -52,6 +53,7 @@ def _check_path(env, path, goal_pos, goal_rot, held_body=None):
   return scene
 
 
+@needs_ompl
 def test_the_path_goes_round_a_part_in_the_straight_moves_way():
   env, goal_pos, goal_rot = _scene_with_a_wall()
   robot, physics = env.task.robot, env.physics
@@ -66,6 +68,7 @@ def test_the_path_goes_round_a_part_in_the_straight_moves_way():
   np.testing.assert_array_equal(again.q, path.q)
 
 
+@needs_ompl
 def test_the_held_part_moves_with_the_hand_and_is_kept_clear():
   env, goal_pos, goal_rot = _scene_with_a_wall()
   robot, physics = env.task.robot, env.physics
@@ -93,6 +96,7 @@ def test_without_ompl_there_is_no_plan(monkeypatch):
   assert joint_planner.plan_to_pose(robot, physics, 0, pos + [0.0, 0.1, 0.0], rot) is None
 
 
+@needs_ompl
 def test_the_arm_follows_a_planned_path_through_task_space_actions():
   env, goal_pos, goal_rot = _scene_with_a_wall()
   robot, physics = env.task.robot, env.physics
