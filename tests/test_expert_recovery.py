@@ -1,13 +1,16 @@
-"""How the arm expert recovers when a carry stalls: it notices, and sets the part back
-down where it took it to take it with the other of its two grasps."""
+"""How the arm expert recovers when a carry stalls: it notices, plans a joint-space path
+to the mate, or else sets the part back down where it took it to take it with the other of
+its two grasps."""
 
 import numpy as np
+import pytest
 
 import ikea_suite
 from ikea_suite import experts
 from ikea_suite import geometry
 from ikea_suite.experts import arm_motion
 from ikea_suite.experts import finger_room
+from ikea_suite.experts import joint_planner
 from ikea_suite.experts import mating
 from ikea_suite.experts import part_geometry
 from ikea_suite.experts import single_arm
@@ -25,9 +28,9 @@ def test_progress_watch_stalls_only_after_a_window_without_gain():
   assert not watch.stalled(1.0, 0.2)
 
 
-def test_twice_stalled_carry_puts_the_part_back_and_takes_it_the_other_way():
-  env = ikea_suite.load("stool_round_frosta", "sawyer", seed=0, scale=0.5)
-  expert = experts.make_expert(env)
+def _stalled_twice(env, expert):
+  """Runs the expert to a carry and makes it stall twice; (moving part, grasp sign, where
+  the part was taken from, timestep)."""
   timestep = env.reset()
   expert.reset()
   furniture = env.task.furniture
@@ -43,7 +46,17 @@ def test_twice_stalled_carry_puts_the_part_back_and_takes_it_the_other_way():
   expert._carry_stalled(moving, *expert._plan)   # first stall: another mate
   assert expert.phase == Phase.ALIGN and expert._plan is None
   timestep = env.step(expert(timestep))
-  expert._carry_stalled(moving, *expert._plan)   # second: put it back
+  expert._carry_stalled(moving, *expert._plan)   # second: a planned path, or put it back
+  return moving, sign, taken_from, timestep
+
+
+def test_twice_stalled_carry_with_no_planned_path_puts_the_part_back(monkeypatch):
+  # As without OMPL (the `planning` extra): no joint-space path, so the part goes back.
+  monkeypatch.setattr(joint_planner, "AVAILABLE", False)
+  env = ikea_suite.load("stool_round_frosta", "sawyer", seed=0, scale=0.5)
+  expert = experts.make_expert(env)
+  furniture = env.task.furniture
+  moving, sign, taken_from, timestep = _stalled_twice(env, expert)
   phases = [expert.phase]
   for _ in range(300):
     timestep = env.step(expert(timestep))
@@ -55,6 +68,24 @@ def test_twice_stalled_carry_puts_the_part_back_and_takes_it_the_other_way():
   put_at = furniture.part_poses(env.physics)[0][moving]
   assert np.linalg.norm(put_at - taken_from) < 0.03   # back on the floor where it lay
   assert expert.job[1] == moving and expert._grasp_sign == -sign
+
+
+def test_twice_stalled_carry_follows_a_planned_joint_path_to_the_mate():
+  pytest.importorskip("ompl")
+  env = ikea_suite.load("stool_round_frosta", "sawyer", seed=0, scale=0.5)
+  expert = experts.make_expert(env)
+  moving, _, _, timestep = _stalled_twice(env, expert)
+  assert expert.phase == Phase.PLANNED_CARRY and expert._plan is not None
+  phases = [expert.phase]
+  for _ in range(600):
+    timestep = env.step(expert(timestep))
+    if expert.phase != phases[-1]:
+      phases.append(expert.phase)
+    if env.task.state.connections:
+      break
+  # Along the path, to the approach pose, in, connected: never put back.
+  assert phases[:3] == [Phase.PLANNED_CARRY, Phase.ALIGN, Phase.INSERT]
+  assert len(env.task.state.connections) == 1
 
 
 def test_a_grasp_that_does_not_hold_is_not_tried_again_until_both_have_failed():

@@ -183,6 +183,8 @@ class Unwinder:
     self._max_joint_step, self._steps_per_waypoint = max_joint_step, steps_per_waypoint
     self._servo = PoseServo()
     self.waypoints, self._counter = [], 0
+    self._budgets = []   # control steps each waypoint is waited for before moving on
+    self._caps = (1.0, 1.0)   # (max_turn, max_speed) of the servo
 
   @staticmethod
   def _travel(robot, physics, arm):
@@ -213,6 +215,30 @@ class Unwinder:
       if keep_clear is not None and k < count:
         pos = keep_clear(pos)
       self.waypoints.append((pos, base_rot @ rot))
+    self._budgets = [self._steps_per_waypoint] * len(self.waypoints)
+    self._caps = (1.0, 1.0)
+    self._servo.reset()
+    self._counter = 0
+
+  def follow(self, robot, arm, path, max_turn=1.0, max_speed=1.0):
+    """Follows a planned joint path instead (IK joint vectors, every arm, the first the
+    present joints: joint_planner.JointPath.q), turning and moving the tool at most
+    `max_turn` and `max_speed` of the robot's top speeds; then call until `done`. Each
+    waypoint is waited for as many control steps as the tool's move to it takes at those
+    speeds, plus two: a held part carried at a slower speed than the unwinding's lagged
+    further behind each waypoint."""
+    base_pos, base_rot = robot.base_pose
+    self.waypoints, self._budgets = [], []
+    pos, rot = robot.ik.tcp_poses(path[0])[arm]
+    for q in path[1:]:
+      last = pos, rot
+      pos, rot = robot.ik.tcp_poses(q)[arm]
+      move = np.linalg.norm(pos - last[0]) / (max_speed * robot.max_translation)
+      turn = np.linalg.norm(geometry.mat_to_axis_angle(rot @ last[1].T)) / (
+          max_turn * robot.max_rotation)
+      self.waypoints.append((base_rot @ pos + base_pos, base_rot @ rot))
+      self._budgets.append(int(np.ceil(max(move, turn))) + 2)
+    self._caps = (max_turn, max_speed)
     self._servo.reset()
     self._counter = 0
 
@@ -223,15 +249,17 @@ class Unwinder:
   def __call__(self, robot, physics, arm):
     """Task-space action entries (6) for this control step, towards the next waypoint."""
     goal = self.waypoints[0]
-    action = self._servo(robot, physics, arm, *goal)
+    max_turn, max_speed = self._caps
+    action = self._servo(robot, physics, arm, *goal, max_turn=max_turn, max_speed=max_speed)
     self._counter += 1
     distance, angle = pose_error(robot, physics, arm, *goal)
     last = len(self.waypoints) == 1
     # On when there, or after a few steps (the last waypoint is waited for longer).
     if ((distance < 0.02 and angle < 0.05)
-        or (self._counter >= self._steps_per_waypoint and not last)
-        or self._counter >= 4 * self._steps_per_waypoint):
+        or (self._counter >= self._budgets[0] and not last)
+        or self._counter >= 4 * self._budgets[0]):
       self.waypoints.pop(0)
+      self._budgets.pop(0)
       self._counter = 0
     return action
 

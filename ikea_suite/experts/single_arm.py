@@ -17,6 +17,7 @@ from ikea_suite import errors
 from ikea_suite import geometry
 from ikea_suite.experts import arm_motion
 from ikea_suite.experts import clearance
+from ikea_suite.experts import joint_planner
 from ikea_suite.experts import mating
 from ikea_suite.experts import next_part
 from ikea_suite.experts import part_geometry
@@ -28,6 +29,8 @@ from ikea_suite.robots import control_modes
 
 # Rad of any joint from home beyond which the arm goes home in joint space between parts.
 UNWIND_FROM = 1.0
+# Mates (pair, twist) a stalled carry plans a joint path to before the part is put back.
+_PLANNED_MATES = 3
 
 
 class Phase(enum.Enum):
@@ -40,13 +43,15 @@ class Phase(enum.Enum):
   RELEASE = "release"   # open the gripper on the joined part
   RETREAT = "retreat"   # back off before the next part
   PUT_BACK = "put_back"   # set a part down where it was taken, to take it another way
+  PLANNED_CARRY = "planned_carry"   # along a planned joint path to the approach pose
   UNWIND = "unwind"     # back to the home joint configuration along a joint-space path
   TURN_OVER = "turn_over"   # roll the assembly onto its other face (turn_over.TurnOver)
   STAND_UP = "stand_up"     # stand the lying root up on its foot (stand_up.StandUp)
 
 
 # Phases in which the fingers close on, or hold, a part.
-_HOLDING = (Phase.CLOSE, Phase.LIFT, Phase.ALIGN, Phase.INSERT, Phase.PUT_BACK)
+_HOLDING = (Phase.CLOSE, Phase.LIFT, Phase.ALIGN, Phase.INSERT, Phase.PUT_BACK,
+            Phase.PLANNED_CARRY)
 # Phases that go on with no part chosen.
 _WITHOUT_A_PART = (Phase.RELEASE, Phase.RETREAT, Phase.UNWIND, Phase.TURN_OVER, Phase.STAND_UP)
 # Phases another skill drives from start to end, choosing no part meanwhile.
@@ -472,6 +477,22 @@ class ArmAssemblyController:
     if self._counter == len(self._put_back_path) or self._stalled > 2 * self._stall_steps:
       self.phase, self._counter = Phase.RELEASE, 0
 
+  def _on_planned_carry(self, command, moving):
+    """Along the joint path _plan_carry planned (arm_motion.Unwinder.follow); there, on
+    to the approach pose and the insertion as after a carry."""
+    if not self._holding(moving):
+      self._stalled_grasps.add((moving, self._grasp_sign))
+      self._plan = None
+      self._to_next_reach()
+      return
+    command.tool[:] = self._unwinder(self._robot, self._env.physics, self._arm)
+    if self._unwinder.done:
+      self.phase, self._stalled = Phase.ALIGN, 0
+      self._carry_watch.reset()
+      task = self._env.task
+      self._root_at_plan = part_geometry.part_pose(self._env.physics, task.furniture,
+                                                   task.root_part)[0]
+
   def _on_release(self, command, moving):
     """Open for `release_steps`; then back off, and up clear of the assembly: a hand left
     low beside a standing leg strikes it when it turns down for the next part."""
@@ -517,6 +538,7 @@ class ArmAssemblyController:
              Phase.LIFT: _on_lift, Phase.ALIGN: _on_align, Phase.INSERT: _on_insert,
              Phase.RELEASE: _on_release, Phase.RETREAT: _on_retreat,
              Phase.PUT_BACK: _on_put_back, Phase.UNWIND: _on_unwind,
+             Phase.PLANNED_CARRY: _on_planned_carry,
              Phase.TURN_OVER: _on_turn_over, Phase.STAND_UP: _on_stand_up}
 
   # -- moving between phases -------------------------------------------------------------
@@ -543,16 +565,47 @@ class ArmAssemblyController:
 
   def _carry_stalled(self, moving, pair, twist):
     """A carry that stopped short of its mating pose with a joint at its limit: another
-    mate or twist first; stalled again, set the part down and take it with its other
-    grasp (the Panda's last joint was pinned at its limit after every replan). Other
+    mate or twist first; stalled again, a planned joint-space path there (_plan_carry),
+    or else set the part down and take it with its other grasp (the Panda's last joint
+    was pinned at its limit after every replan). Other
     stalls keep the 2 * stall_steps budget (a slow approach may still get there)."""
     self._failed_plans.add((pair, twist))
     self._plan, self._stalled, self._inserting = None, 0, 0
     self._carry_stalls[moving] = self._carry_stalls.get(moving, 0) + 1
     if self._carry_stalls[moving] == 2:
+      if self._plan_carry(moving, [(pair, twist)] + sorted(self._failed_plans - {(pair, twist)})):
+        return
       self._stalled_grasps.add((moving, self._grasp_sign))
       self._failed_plans = set()   # those failed with the other grasp
       self._put_back()
+
+  def _plan_carry(self, moving, plans):
+    """A joint-space path (joint_planner.plan_to_pose: the arm and the held part clear of
+    everything) to the approach pose of the first (pair, twist) in `plans` it finds one
+    for, before the part is put back: the task-space carry stalls with a joint at its
+    limit or the forearm on the assembly where a path round them exists (Panda, the last
+    side of nightstand_drawer_white). True when the arm follows one (PLANNED_CARRY);
+    False without OMPL or without a path."""
+    if not joint_planner.AVAILABLE:
+      return False
+    furniture = self._env.task.furniture
+    table, body = furniture.connectors, furniture.body_ids[moving]
+    plans = [(pair, twist) for pair, twist in plans
+             if moving in (table.part[table.pair_a[pair]], table.part[table.pair_b[pair]])]
+    for pair, twist in plans[:_PLANNED_MATES]:
+      _, _, goal = self._mate_goal(moving, pair, twist, self._approach)
+      path = joint_planner.plan_to_pose(self._robot, self._env.physics, self._arm, *goal,
+                                        held_body=body)
+      if path is not None:
+        self._failed_plans.discard((pair, twist))
+        self._plan, self._carrying = (pair, twist), False
+        self._unwinder.follow(self._robot, self._arm, path.q, max_turn=arm_motion.CARRY_TURN,
+                              max_speed=top_down_grasp.FLAT_CARRY_SPEED
+                              if self._turning_flat else 1.0)
+        self.phase, self._counter, self._stalled, self._inserting = (
+            Phase.PLANNED_CARRY, 0, 0, 0)
+        return True
+    return False
 
   def _no_mate_left(self, moving):
     """Every mate and twist of the held part has failed with this grasp. Dropped where it
