@@ -37,6 +37,7 @@ def run_episode(job):
   of one expert episode."""
   robot, furniture, scale, seed, time_limit, arena, control_mode = job
   import ikea_suite
+  from ikea_suite.experts import joint_planner
   from ikea_suite.experts import registry
   start = time.perf_counter()
   options = {"arena": arena}
@@ -58,7 +59,8 @@ def run_episode(job):
           "parts": len(env.task.furniture.parts), "connections": len(state.connections),
           "complete": bool(state.complete), "steps": steps,
           "seconds": time.perf_counter() - start,
-          "arms_used": sorted(expert.arms_used if registry.expert(robot).two_arm else {0})}
+          "arms_used": sorted(expert.arms_used if registry.expert(robot).two_arm else {0}),
+          "planner": joint_planner.AVAILABLE}
 
 
 def default_models(count):
@@ -115,6 +117,12 @@ def write_measurements(rows, path=None):
         sys.exit(f"--write records sweeps with load()'s defaults only ({key} {default}); "
                  f"{row['robot']} {row['furniture']} seed {row['seed']} ran with {key} "
                  f"{row[key]}")
+    # Without OMPL a twice-stalled carry puts the part back instead of planning round
+    # the assembly, so the same seed may end otherwise: the lists promise the planner.
+    if not row.get("planner", False):
+      sys.exit(f"--write records sweeps run with the joint planner (pip install "
+               f"'ikea_suite[planning]'); {row['robot']} {row['furniture']} seed "
+               f"{row['seed']} ran without it")
   pairs = {}
   for row in rows:
     pairs.setdefault((row["robot"], row["furniture"]), []).append(row)

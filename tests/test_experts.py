@@ -250,7 +250,7 @@ def _sweep_rows(robot, furniture, completes, arms=(0,), seed=50000):
   return [{"robot": robot, "control_mode": "task_space", "arena": "floor", "time_limit": None,
            "furniture": furniture, "scale": 0.5, "seed": seed + k, "parts": 5,
            "connections": 4 if done else 2, "complete": done, "steps": 100, "seconds": 1.0,
-           "arms_used": list(arms)} for k, done in enumerate(completes)]
+           "arms_used": list(arms), "planner": True} for k, done in enumerate(completes)]
 
 
 def test_expert_sweep_write_records_a_pair_and_the_rule_lists_it(tmp_path, capsys, monkeypatch):
@@ -288,6 +288,10 @@ def test_expert_sweep_write_records_a_pair_and_the_rule_lists_it(tmp_path, capsy
     # A sweep with other options than load()'s defaults is not recorded.
     log.write_text(json.dumps({**rows[0], "arena": "work_table"}) + "\n")
     with pytest.raises(SystemExit, match="defaults only"):
+      sweep.main(["--join", str(log), "--write", str(data)])
+    # Nor is one run without the joint planner (OMPL absent).
+    log.write_text(json.dumps({**rows[0], "planner": False}) + "\n")
+    with pytest.raises(SystemExit, match="joint planner"):
       sweep.main(["--join", str(log), "--write", str(data)])
   finally:
     registry._table.cache_clear()
