@@ -25,6 +25,7 @@ def test_furniture_measured_smaller_for_reach_or_grip_gets_that_scale():
   assert work_scale.work_scale("panda", "shelving_posts_white_low") == 0.5
   assert work_scale.work_scale("panda", "shelving_posts_black_six") == 0.4
   assert work_scale.work_scale("sawyer", "shelving_posts_white_low") == 0.35
+  assert work_scale.work_scale("baxter", "shelving_posts_white_low") == 0.35   # same fingers
   for robot, scales in work_scale.REACH_SCALES.items():
     for furniture, scale in scales.items():
       assert 0.2 <= scale < 0.5
