@@ -366,3 +366,58 @@ def test_a_raised_carry_out_of_reach_goes_back_to_the_usual_height_and_the_desk_
   assert env.task.state.complete
   raised = [i for i, h in enumerate(heights) if h > usual + 0.01]
   assert raised and any(abs(h - usual) < 1e-9 for h in heights[raised[0]:])
+
+
+def _first_rack_exit(furniture):
+  """(env, expert, part, pair, slide) for the panda expert's first job on `furniture`, as
+  its lift would judge it: the tool at the grasp, every other panel still racked."""
+  env = ikea_suite.load(furniture, "panda", scale=0.5, seed=1000)
+  expert = experts.make_expert(env, require_supported=False)
+  timestep = env.reset()
+  expert.reset()
+  expert(timestep)   # chooses the first part and its grasp
+  pair, part = expert.job
+  point, rot = expert._grasp_pose(part)
+  slide = expert._clearance.rack_exit(part, pair, point, rot @ expert.closing_local(),
+                                      expert._carry_height.nominal)
+  return env, expert, part, pair, point, rot, slide
+
+
+def test_a_panel_hanging_below_its_neighbours_tops_slides_out_of_the_rack_along_its_plane():
+  # A dresser's panels stand 0.38 m tall in the rack (scale 0.5): held by the top edge,
+  # one hangs below its neighbours' tops even at the carry's height, and carried round
+  # the base along the row of slots it was swept into them and fell out of the fingers.
+  env, expert, part, pair, point, rot, slide = _first_rack_exit("dresser_chest_three_white")
+  assert slide is not None
+  closing = rot @ expert.closing_local()
+  assert abs(slide[2]) < 1e-9 and abs(slide @ closing) < 1e-6   # in the panel's plane
+  base = env.task.robot.base_pose[0]
+  assert slide[:2] @ (base - point)[:2] > 0.0   # towards the base
+  furniture, table = env.task.furniture, env.task.furniture.connectors
+  positions, rotations = furniture.part_poses(env.physics)
+  held = part_geometry.part_corners(furniture, part, positions[part] + slide, rotations[part])
+  along = slide / np.linalg.norm(slide)
+  ends = table.pair_a[pair], table.pair_b[pair]
+  mate = table.world_frames(positions, rotations)[0][ends[1] if table.part[ends[0]] == part
+                                                      else ends[0]]
+  rack = next(g for g in env.task.initializer.rack_groups if part in g)
+  between = []   # the tall neighbours on its mate's side, along the row of slots
+  for other in set(rack) - {part}:
+    corners = part_geometry.part_corners(furniture, other, positions[other], rotations[other])
+    if ((corners.mean(0) - held.mean(0)) @ closing * ((mate - held.mean(0)) @ closing) > 0.0
+        and corners[:, 2].max() > held[:, 2].min() + 0.1):
+      between.append(corners)
+  assert between
+  for corners in between:   # slid past them
+    assert (held @ along).min() >= (corners @ along).max() + 0.02
+  # The carry keeps out of that row: a waypoint back over one of them is held at the
+  # slide's end, for this part only.
+  route = expert._clearance
+  over = np.array([*between[0].mean(0)[:2], point[2]])
+  assert route.outside_rack(over, part) @ along == pytest.approx((point + slide) @ along)
+  assert np.array_equal(route.outside_rack(over, part + 1), over)
+
+
+def test_box_walls_low_enough_to_pass_over_their_neighbours_lift_straight_out():
+  *_, slide = _first_rack_exit("box_open_small_white")
+  assert slide is None

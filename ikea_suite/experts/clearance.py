@@ -23,6 +23,7 @@ class AssemblyClearance:
   def reset(self):
     self._rise_from = None   # (x, y) a rise clear of the assembly started from
     self._carry_rise_from = None   # (x, y) a held part's rise (rise_first) started from
+    self._fence = None   # (part, along, floor, across, low, high): rack_exit, outside_rack
 
   def assembly_top(self):
     """Height of the highest corner of the parts joined to the root (or of the surface)."""
@@ -84,6 +85,78 @@ class AssemblyClearance:
     if self._carry_rise_from is None:
       self._carry_rise_from = pos[:2].copy()
     return np.array([*self._carry_rise_from, waypoint[2]])
+
+  def rack_exit(self, part, pair, grasp, closing, carry_z, clearance=0.03, margin=0.03):
+    """How far (a horizontal move, m) the tool slides `part`, a panel standing in a rack
+    and taken by its top edge with the tool at `grasp` (fingers closing along the
+    horizontal `closing`), once it is lifted, before it is carried to its mate on
+    connector pair `pair`: along the panel's own plane, towards the base, until its
+    footprint lies `margin` beyond those of the other loose panels in its rack that stand
+    on the mate's side of it (along `closing`, the row of slots) and whose tops it would
+    not clear by `clearance` with the tool at the carry's height `carry_z`. None when
+    there is no such panel, or `part` stands in no rack. The carry then keeps out of
+    their row (outside_rack) until the next rack_exit.
+
+    The lift raises a panel only `lift` clear of the rack, and the carry swings the hand
+    round the base, across the panel's thickness: along the row of slots. A panel so tall
+    that it hangs below its neighbours' tops even at the carry's height was swept into
+    those between it and its mate (a dresser's 0.38 m shelves and plinth, a cabinet's
+    shelf into its 0.41 m back, Panda, scale 0.5), pivoted about the closing axis and fell
+    out of the fingers. Slid out along its plane it passes no neighbour.
+    """
+    self._fence = None
+    task, physics = self._env.task, self._env.physics
+    furniture, table = task.furniture, task.furniture.connectors
+    rack = next((group for group in task.initializer.rack_groups if part in group), None)
+    if rack is None:
+      return None
+    positions, rotations = furniture.part_poses(physics)
+    a, b = table.pair_a[pair], table.pair_b[pair]
+    mate = table.world_frames(positions, rotations)[0][b if table.part[a] == part else a]
+    across = np.array([closing[0], closing[1], 0.0]) / np.linalg.norm(closing[:2])
+    held = part_geometry.part_corners(furniture, part, positions[part], rotations[part])
+    middle = held.mean(axis=0)
+    side = np.sign((mate - middle) @ across)
+    bottom = held[:, 2].min() + carry_z - grasp[2]
+    joined = set(part_geometry.root_group(task))
+    blocking = []
+    for other in rack:
+      if other == part or other in joined:
+        continue
+      corners = part_geometry.part_corners(furniture, other, positions[other], rotations[other])
+      if (corners[:, 2].max() + clearance > bottom
+          and (corners.mean(axis=0) - middle) @ across * side > 0.0):
+        blocking.append(corners)
+    if not blocking:
+      return None
+    along = np.array([-across[1], across[0], 0.0])
+    toward_base = self._robot.base_pose[0] - grasp
+    if along[:2] @ toward_base[:2] < 0.0:
+      along = -along
+    blocking = np.concatenate(blocking)
+    slide = (blocking @ along).max() - (held @ along).min() + margin
+    if slide <= 0.0:
+      return None
+    # The tool, where the held footprint reaches the row: the row's span across, widened
+    # by the held panel's reach either side of the tool.
+    held_across = held @ across - grasp @ across
+    self._fence = (part, along, grasp @ along + slide, across,
+                   (blocking @ across).min() - held_across.max() - margin,
+                   (blocking @ across).max() - held_across.min() + margin)
+    return slide * along
+
+  def outside_rack(self, waypoint, part):
+    """The carry's `waypoint` for `part`, moved along the slide of the part's last
+    rack_exit to where that slide ended, wherever it would bring the panel back over the
+    row it slid out of. Carried round the base from there, the hand's arc bowed back over
+    the rack's edge and swept a nightstand's plinth and a cabinet's shelf into the back
+    standing in it (Panda)."""
+    if self._fence is None or self._fence[0] != part:
+      return waypoint
+    _, along, floor, across, low, high = self._fence
+    if not low < waypoint @ across < high or waypoint @ along >= floor:
+      return waypoint
+    return waypoint + (floor - waypoint @ along) * along
 
   def above_assembly(self, pos, margin=0.15, clearance=0.08):
     """`pos` raised to safe_height where it lies within `margin` of the assembly's

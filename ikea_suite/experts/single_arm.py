@@ -158,6 +158,7 @@ class ArmAssemblyController:
     self._carrying = False   # the held part is on its way over its mate at carry height
     self._root_at_plan = None   # where the root part was when the present plan was made
     self._put_back_path = []   # tool positions _put_back lays, the last one down
+    self._lift_path = []   # (tool position, speed) of the lift's legs still to go
 
   @property
   def job(self):
@@ -320,18 +321,30 @@ class ArmAssemblyController:
     self._counter += 1
     if self._counter >= self._close_steps:
       self.phase = Phase.LIFT
+      top = self._grasp[0] + [0.0, 0.0, self._lift]
+      self._lift_path = [(top, self._edge_lift_speed if self._hanging else 1.0)]
+      if self._hanging:   # then out of its rack along its plane, if it would strike
+        slide = self._clearance.rack_exit(
+            moving, self._job[0], self._grasp[0], self._grasp[1] @ self.closing_local(),
+            self._carry_height.nominal)
+        if slide is not None:
+          self._lift_path.append((top + slide, top_down_grasp.HANGING_SPEED))
 
   def _on_lift(self, command, moving):
     """Up by `lift`, only clear of the floor: the carry rises further on its way in, since
-    straight up is out of reach for a part at the edge of the work area."""
+    straight up is out of reach for a part at the edge of the work area. A panel that
+    would strike its rack's neighbours on the carry then slides out of the rack along its
+    plane (clearance.rack_exit), at HANGING_SPEED."""
     robot, physics, arm = self._robot, self._env.physics, self._arm
-    goal = self._grasp[0] + [0.0, 0.0, self._lift]
-    command.tool[:] = self._servo(robot, physics, arm, goal, self._grasp[1],
-                                  max_speed=self._edge_lift_speed if self._hanging else 1.0)
+    goal, speed = self._lift_path[0]
+    command.tool[:] = self._servo(robot, physics, arm, goal, self._grasp[1], max_speed=speed)
     self._counter += 1
     if (arm_motion.pose_error(robot, physics, arm, goal, self._grasp[1])[0] < 0.03
-        or self._counter > self._close_steps + 40):   # as high as it goes: carry on
-      self.phase = Phase.ALIGN
+        or self._counter > self._close_steps + 40):   # as high or far as it goes: on
+      self._lift_path.pop(0)
+      self._counter = self._close_steps
+      if not self._lift_path:
+        self.phase = Phase.ALIGN
 
   def _on_align(self, command, moving):
     """Carry the part over its mate at carry height, then down to `approach` short of it,
@@ -433,6 +446,7 @@ class ArmAssemblyController:
     robot, physics, arm = self._robot, self._env.physics, self._arm
     high = self._carry_height.waypoint(goal, moving, part_pos, part_rot, self._hanging)
     waypoint = self._clearance.rise_first(self._clearance.arc_waypoint(high), moving, high[2])
+    waypoint = self._clearance.outside_rack(waypoint, moving)
     command.tool[:] = self._servo(robot, physics, arm, waypoint, goal[1],
                                   max_turn=arm_motion.CARRY_TURN,
                                   max_speed=top_down_grasp.FLAT_CARRY_SPEED
