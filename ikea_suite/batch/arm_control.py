@@ -104,10 +104,11 @@ def _axis_rot(axis, angle):
   return jnp.eye(3) + jnp.sin(angle) * k + (1 - jnp.cos(angle)) * (k @ k)
 
 
-def tool_pose(chain_, q):
-  """World position (3,) and rotation (3, 3) of the tool site at arm joints q (joints,),
-  as MuJoCo's forward kinematics places it."""
+def body_poses(chain_, q):
+  """World positions (l, 3) and rotations (l, 3, 3) of the chain's bodies (world's child
+  first) at arm joints q (joints,), as MuJoCo's forward kinematics places them."""
   pos, rot = jnp.zeros(3, dtype=q.dtype), jnp.eye(3, dtype=q.dtype)
+  out_pos, out_rot = [], []
   for i in range(chain_.pos.shape[0]):
     pos = pos + rot @ chain_.pos[i]
     rot = rot @ chain_.rot[i]
@@ -117,7 +118,16 @@ def tool_pose(chain_, q):
       anchor = pos + rot @ chain_.anchor[i]
       rot = rot @ turn
       pos = anchor - rot @ chain_.anchor[i]
-  return pos + rot @ chain_.site_pos, rot @ chain_.site_rot
+    out_pos.append(pos)
+    out_rot.append(rot)
+  return jnp.stack(out_pos), jnp.stack(out_rot)
+
+
+def tool_pose(chain_, q):
+  """World position (3,) and rotation (3, 3) of the tool site at arm joints q (joints,),
+  as MuJoCo's forward kinematics places it."""
+  pos, rot = body_poses(chain_, q)
+  return pos[-1] + rot[-1] @ chain_.site_pos, rot[-1] @ chain_.site_rot
 
 
 def rotation_vector(rot):

@@ -39,8 +39,8 @@ ranges, as the CPU expert's choose_grasp_sign and plan_mating rank theirs
 
 While carrying, the tool's command is the part's pose error applied to the tool (as
 batch/scripted.py steers the Cursor's part), so slip in the grip is corrected too; the
-target it moves is kept within LEAD of the measured tool, so the servos' lag does not
-wind it up.
+target it moves is kept within LEAD of the measured tool, horizontally and vertically
+each, so the servos' lag does not wind it up.
 """
 
 import typing
@@ -79,25 +79,32 @@ CARRY_GATE = (0.02, 0.1)
 # m, rad: the carried part is over its mate (horizontally) and turned nearly as it
 # mates, and goes down.
 OVER_MATE = (0.02, 0.3)
-LEAD = 0.03           # m the target may lead the measured tool while carrying (see act)
+LEAD = 0.03           # m the target may lead the measured tool while carrying (see act),
+                      # horizontally and vertically each
 REACH_NEAR = 0.05     # m (horizontal) from the hover within which the open hand goes down
 LOST = 0.05           # m the part may move from where the closed fingers held it
 CARRY_GAIN = 0.5      # fraction of the part's pose error the target takes per step
 DESCEND_GAIN = 0.4    # fraction of a full step the open hand goes down by
 CARRY_TURN = 0.15     # fraction of the top turning speed a held part turns at (see act)
 # The choice of grasp and twist (choose): IK steps of at most IK_STEP rad follow the
-# servo's path, REACH_ITERATIONS of them to the hover, LIFT_ITERATIONS up to the carry
-# height, CARRY_ITERATIONS at that height to the point over the mate and LIFT_ITERATIONS
-# down to the approach; a rotation miss of 1 rad costs as much as ROTATION_MISS_WEIGHT m
+# servo's path, REACH_ITERATIONS of them to the hover, GRASP_ITERATIONS down to the grasp
+# point, LIFT_ITERATIONS up to the carry height, CARRY_ITERATIONS at that height to the
+# point over the mate, LIFT_ITERATIONS down to the approach and GRASP_ITERATIONS on to the
+# mated pose; a rotation miss of 1 rad costs as much as ROTATION_MISS_WEIGHT m
 # of position miss, and a joint closer than LIMIT_MARGIN rad to its range costs the
 # shortfall.
 IK_STEP = 0.1
-REACH_ITERATIONS, LIFT_ITERATIONS, CARRY_ITERATIONS = 40, 20, 60
+REACH_ITERATIONS, GRASP_ITERATIONS, LIFT_ITERATIONS, CARRY_ITERATIONS = 40, 10, 20, 60
 ROTATION_MISS_WEIGHT = 0.1
 LIMIT_MARGIN = 0.3
 # m (with the rotation miss as above): a grasp whose hover the servo's path misses by more
 # is ruled out (see choose).
 HOVER_MISS = 0.05
+# The arm's links and hand, as spheres along each collision geom's longest axis, are kept
+# ARM_CLEARANCE (m) off every part but the loose one at the grasp and on the mate; each m
+# they come closer costs CLEARANCE_WEIGHT m of reach miss (see choose).
+ARM_CLEARANCE = 0.01
+CLEARANCE_WEIGHT = 10.0
 
 
 class Plan(typing.NamedTuple):
@@ -113,6 +120,9 @@ class Plan(typing.NamedTuple):
     twists, twist_valid: (p, t) the pair's allowed twists (rad) about that axis.
     closing: (3,) the fingers' closing axis in the tool frame.
     pad_below: m the fingertips reach below the tool centre when pointing down.
+    sphere_body: (s,) index of the arm chain's body (arm_control.body_poses) each sphere
+      that covers the arm's collision geoms rides on.
+    sphere_pos, sphere_radius: (s, 3) their centres in that body's frame, (s,) radii.
   """
   center: jnp.ndarray
   half: jnp.ndarray
@@ -126,6 +136,9 @@ class Plan(typing.NamedTuple):
   twist_valid: jnp.ndarray
   closing: jnp.ndarray
   pad_below: float
+  sphere_body: jnp.ndarray
+  sphere_pos: jnp.ndarray
+  sphere_radius: jnp.ndarray
 
 
 class ExpertState(typing.NamedTuple):
@@ -169,6 +182,38 @@ def _finger_geometry(env):
   return closing, float(tool_pos[2] - lowest)
 
 
+def _arm_spheres(env):
+  """(body index on the arm chain, centre in that body's frame, radius) of spheres covering
+  the collision geoms of the bodies on the chain from the base to the tool (the links and
+  the hand; the fingers hold the part): per geom, three along its bounding box's longest
+  axis, as wide as its second longest half size. Every geom is taken whether or not it
+  collides in this model (the light model switches the links off; the arm still has them)."""
+  am = env.arm_model
+  model = am.model
+  bodies = []
+  body = int(model.site_bodyid[am.tcp_site])
+  while body != 0:
+    bodies.append(body)
+    body = int(model.body_parentid[body])
+  bodies.reverse()
+  index, centres, radii = [], [], []
+  for i, b in enumerate(bodies):
+    for g in range(int(model.body_geomadr[b]), int(model.body_geomadr[b] + model.body_geomnum[b])):
+      centre, half = model.geom_aabb[g, :3], model.geom_aabb[g, 3:]
+      order = np.argsort(half)
+      radius = float(half[order[1]])
+      axis = np.zeros(3)
+      axis[order[2]] = max(float(half[order[2]]) - radius, 0.0)
+      rot = np.empty(9)
+      mujoco.mju_quat2Mat(rot, model.geom_quat[g])
+      rot = rot.reshape(3, 3)
+      for side in (-1.0, 0.0, 1.0):
+        index.append(i)
+        centres.append(model.geom_pos[g] + rot @ (centre + side * axis))
+        radii.append(radius)
+  return np.array(index, dtype=int), np.array(centres), np.array(radii)
+
+
 def plan(env):
   """The expert's Plan for a BatchArmAssembly `env` (numpy work, once per environment).
 
@@ -210,12 +255,14 @@ def plan(env):
       conn_pos[i], conn_axis[i] = table.local_pos[own], table.local_rot[own][:, 2]
       twists[i], twist_valid[i] = welds.twist_angles[k], welds.twist_valid[k]
   closing, pad_below = _finger_geometry(env)
+  sphere_body, sphere_pos, sphere_radius = _arm_spheres(env)
   f = lambda x: rigid.real(np.asarray(x))
   return Plan(center=f(center), half=f(half), mate=jnp.asarray(mate, dtype=jnp.int32),
               rel_pos=f(rel_pos), rel_rot=f(rel_rot), away=f(away), conn_pos=f(conn_pos),
               conn_axis=f(conn_axis), twists=f(twists), twist_valid=jnp.asarray(twist_valid),
               closing=f(closing),
-              pad_below=float(pad_below))
+              pad_below=float(pad_below), sphere_body=jnp.asarray(sphere_body, dtype=jnp.int32),
+              sphere_pos=f(sphere_pos), sphere_radius=f(sphere_radius))
 
 
 def initial_state():
@@ -335,6 +382,20 @@ def _reach_cost(env, q, pos, rot):
   return miss + jnp.maximum(0.0, LIMIT_MARGIN - margin).sum()
 
 
+def _arm_intrusion(env, plan_, q, part_pos, part_rot, m):
+  """How far (m, summed over the arm's spheres and the parts) the arm at joints q comes
+  within ARM_CLEARANCE of any part but m (each part as its collision box)."""
+  body_pos, body_rot = arm_control.body_poses(env.chain, q)
+  centres = body_pos[plan_.sphere_body] + jnp.einsum(
+      "sij,sj->si", body_rot[plan_.sphere_body], plan_.sphere_pos)                # (s, 3)
+  local = jnp.einsum("pji,psj->psi", part_rot, centres[None] - part_pos[:, None])
+  outside = jnp.maximum(jnp.abs(local - plan_.center[:, None]) - plan_.half[:, None], 0.0)
+  gap = jnp.linalg.norm(outside, axis=-1)                                        # (p, s)
+  intrusion = jnp.maximum(plan_.sphere_radius[None] + ARM_CLEARANCE - gap, 0.0)
+  others = jnp.arange(part_pos.shape[0]) != m
+  return jnp.sum(jnp.where(others[:, None], intrusion, 0.0))
+
+
 def _yaw(rot):
   """Angle (rad, in (-pi, pi]) about the world z axis of a rotation that is mostly one
   about it (between two poses of a hand pointing down)."""
@@ -345,16 +406,18 @@ def choose(env, plan_, state):
   """(grasp, twist, turn) of one world: of the four grasps of the loose part, the pair's
   allowed twists and the two ways round the held part may turn about the vertical on its
   way to the mate, the choice the arm reaches best. The servo's path is followed by IK as
-  act's phases go: from the present joints to the hover above the grasp, up to the carry
-  height, over to the point above the mate turned to that twist (the chosen way round:
-  first to halfway), and down to the tool pose that holds the part APPROACH above its
-  mated pose (the grip the grasp makes); reach_cost at the hover, over the mate and at
-  the approach ranks them. A twist that turns the part upright on the far side of the
-  wrist's range ends short with the wrist at its limit, as the carry did before the
-  choice was made; so did a panel taken from the rack beside the base and turned the
-  shorter way round to its mate in front of it. A grasp whose hover the path misses by
-  more than HOVER_MISS is ruled out while another's is reached: the hand never comes
-  down there, however well the rest of its path goes.
+  act's phases go: from the present joints to the hover above the grasp, down to the grasp
+  point, up to the carry height, over to the point above the mate turned to that twist
+  (the chosen way round: first to halfway), down to the tool pose that holds the part
+  APPROACH above its mated pose (the grip the grasp makes) and on to the mated pose;
+  reach_cost at the hover, over the mate and at the approach ranks them, and so does the
+  arm's intrusion (_arm_intrusion) on the parts other than the loose one at the grasp
+  point and at the mated pose, CLEARANCE_WEIGHT m per m. A twist that turns the part
+  upright on the far side of the wrist's range ends short with the wrist at its limit, as
+  the carry did before the choice was made; so did a panel taken from the rack beside the
+  base and turned the shorter way round to its mate in front of it. A grasp whose hover
+  the path misses by more than HOVER_MISS is ruled out while another's is reached: the
+  hand never comes down there, however well the rest of its path goes.
 
   Args:
     env: the BatchArmAssembly.
@@ -389,13 +452,22 @@ def choose(env, plan_, state):
     high = tool_pos.at[2].add(jnp.maximum(carry_z - above[2], 0.0))
     carry_turn = turn(grasp_rots[g], tool_rot, v)
     halfway = jnp.where(v == 1, rigid.rot_z(carry_turn / 2) @ grasp_rots[g], tool_rot)
-    pos = jnp.stack([hovers[g], lift, high, high, tool_pos])
-    rot = jnp.stack([grasp_rots[g], grasp_rots[g], halfway, tool_rot, tool_rot])
-    ends = _servo_path(env, q, pos, rot, (REACH_ITERATIONS, LIFT_ITERATIONS,
+    mated = goal_pos[k] + rigid.apply(goal_rots[k], grip_pos)
+    pos = jnp.stack([hovers[g], points[g], lift, high, high, tool_pos, mated])
+    rot = jnp.stack([grasp_rots[g], grasp_rots[g], grasp_rots[g], halfway, tool_rot, tool_rot,
+                     tool_rot])
+    ends = _servo_path(env, q, pos, rot, (REACH_ITERATIONS, GRASP_ITERATIONS, LIFT_ITERATIONS,
                                           CARRY_ITERATIONS // 2, CARRY_ITERATIONS,
-                                          LIFT_ITERATIONS))
-    costs = [_reach_cost(env, ends[i], pos[i], rot[i]) for i in (0, 3, 4)]
-    return sum(costs), costs[0] > HOVER_MISS, jnp.where(v == 1, jnp.sign(carry_turn), 0.0)
+                                          LIFT_ITERATIONS, GRASP_ITERATIONS))
+    costs = [_reach_cost(env, ends[i], pos[i], rot[i]) for i in (0, 4, 5)]
+    # The arm's links and hand beside the parts already joined, where the hand takes the
+    # part and where it holds it on its mate: with every robot geom colliding (the Warp
+    # model, and the CPU env), a forearm resting on a standing leg while the hand took the
+    # loose one turned it in the grip, and one pressed on a leg beside the mate held the
+    # shoulder at its range short of the insertion.
+    clash = sum(_arm_intrusion(env, plan_, ends[i], part_pos, part_rot, m) for i in (1, 6))
+    return (sum(costs) + CLEARANCE_WEIGHT * clash, costs[0] > HOVER_MISS,
+            jnp.where(v == 1, jnp.sign(carry_turn), 0.0))
 
   grasps = jnp.arange(points.shape[0])
   twists = jnp.arange(plan_.twists.shape[1])
@@ -491,8 +563,13 @@ def act(env, plan_, expert, state):
   # target far ahead of the lagging tool overshot, and the part hunted round the point
   # above its mate. The target is kept within LEAD of the measured tool instead (the
   # servos' sag under a held part is about half that).
+  # The horizontal and the vertical lead are bounded each on its own: bounded together,
+  # the horizontal lag of a long carry used up the lead the target needs above the tool to
+  # hold the sagging servos at the carry height, and the part sank 9 cm on its way.
   ahead = targets.pos + tool_action[:3] * mt - tool_pos
-  kept = tool_pos + ahead * jnp.minimum(1.0, LEAD / jnp.maximum(jnp.linalg.norm(ahead), 1e-9))
+  across = ahead.at[2].set(0.0)
+  kept = (tool_pos + across * jnp.minimum(1.0, LEAD / jnp.maximum(jnp.linalg.norm(across), 1e-9))
+          + jnp.array([0.0, 0.0, 1.0]) * jnp.clip(ahead[2], -LEAD, LEAD))
   tool_action = jnp.where(phase >= CARRY, tool_action.at[:3].set(
       jnp.clip((kept - targets.pos) / mt, -1.0, 1.0)), tool_action)
   # A held part turns at CARRY_TURN of the top turning speed, half the CPU expert's
